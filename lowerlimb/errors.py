@@ -1,0 +1,73 @@
+"""The library's exceptions. Each carries the data that explains it and a message naming the fix."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+
+class LowerLimbError(Exception):
+    """Base class of every error the library raises on purpose."""
+
+
+class InputError(LowerLimbError, ValueError):
+    """Bad user input: the message says what is wrong and how to fix it."""
+
+
+class MissingColumnError(InputError):
+    """A required column is absent from a trial file."""
+
+    def __init__(self, column: str, available: Sequence[str], path: str = "") -> None:
+        self.column = column
+        self.available = list(available)
+        self.path = path
+        where = f" in {path}" if path else ""
+        super().__init__(
+            f"missing column '{column}'{where}; a trial needs time and "
+            f"<sensor>_acc_x..z, <sensor>_gyr_x..z for pelvis, thigh, shank, foot "
+            f"(see DESIGN.md, trial CSV)"
+        )
+
+
+class NonFiniteValueError(InputError):
+    """NaN or infinite sample in a signal."""
+
+    def __init__(self, column: str, row: int) -> None:
+        self.column = column
+        self.row = row
+        super().__init__(
+            f"column '{column}' has a NaN or infinite value at data row {row}; "
+            f"fill or cut the gap before calibrating"
+        )
+
+
+class TimeAxisError(InputError):
+    """The time column is not strictly increasing or not evenly sampled."""
+
+
+class UnitError(InputError):
+    """A signal's magnitude suggests the wrong unit (deg/s gyro, g accelerometer)."""
+
+    def __init__(self, signal: str, value: float, message: str) -> None:
+        self.signal = signal
+        self.value = value
+        super().__init__(message)
+
+
+class TooShortError(InputError):
+    """Too few samples for the requested computation."""
+
+    def __init__(self, duration_s: float, required_s: float) -> None:
+        self.duration_s = duration_s
+        self.required_s = required_s
+        super().__init__(
+            f"the trial lasts {duration_s:.2f} s but at least {required_s:.1f} s are needed; "
+            f"record a longer trial"
+        )
+
+
+class ShapeError(InputError):
+    """An array argument has the wrong shape or mismatched length."""
+
+
+class SolverError(LowerLimbError, RuntimeError):
+    """A numerical solver failed (wraps CasADi/IPOPT errors, chained with ``from``)."""

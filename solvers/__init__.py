@@ -1,0 +1,1 @@
+"""Domain-free optimisers. Never imports lowerlimb."""
