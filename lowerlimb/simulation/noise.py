@@ -1,0 +1,49 @@
+"""Sensor error models of the simulator: white noise, constant gyro bias, soft-tissue artefact."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class ImuNoise:
+    """White noise and bias added to the ideal IMU signals.
+
+    The default is a realistic consumer-grade MEMS IMU at 100 Hz
+    (NOTES.md: gyro 0.01–0.02 rad/s, accelerometer 0.05–0.1 m/s² white noise,
+    constant gyro bias ≈ 0.01 rad/s).
+
+    Attributes:
+        gyr_std_rps: gyro white-noise standard deviation per axis, rad/s.
+        acc_std_mps2: accelerometer white-noise standard deviation per axis, m/s².
+        gyr_bias_rps: norm of the constant gyro bias of each sensor (random
+            direction), rad/s.
+        mag_std_ut: magnetometer white-noise standard deviation per axis, µT.
+    """
+
+    gyr_std_rps: float = 0.015
+    acc_std_mps2: float = 0.08
+    gyr_bias_rps: float = 0.01
+    mag_std_ut: float = 0.5
+
+    @classmethod
+    def none(cls) -> ImuNoise:
+        """Noise-free, bias-free signals."""
+        return cls(0.0, 0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class SoftTissue:
+    """Soft-tissue artefact: each IMU slides on its segment linearly with joint angles.
+
+    The displacement of sensor S in its segment frame is ``Δ_S = Σ_j a_Sj θ_j``
+    over the joint angles that deform the tissue under it (pelvis: hip
+    flexion; thigh: hip and knee flexion; shank: knee and ankle flexion;
+    foot: ankle flexion), with ``a_Sj`` random directions of norm
+    ``amplitude_m_per_rad`` (as in the time-varying S2J paper, Lee & Lee 2022).
+
+    Attributes:
+        amplitude_m_per_rad: displacement per radian of joint angle, m/rad.
+    """
+
+    amplitude_m_per_rad: float = 0.012

@@ -1,0 +1,294 @@
+"""The IMU simulator: exactly what four leg IMUs measure for a known motion.
+
+The leg is the :class:`~lowerlimb.leg_model.LegModel` built from a template
+with random sensor placements; its pelvis hangs from a composite root joint
+(x, y, z translation in the ENU world, heading about the vertical, then the
+pelvis tilt/obliquity/rotation), so every configuration coordinate is a plain
+scalar trajectory. Trajectories are interpolated by quintic splines, whose
+first and second derivatives give ``v`` and ``a``; Pinocchio then gives each
+IMU frame's angular velocity (the gyro) and classical linear acceleration,
+from which the specific force is ``f = R^T (a − g)`` in the sensor frame.
+The magnetometer reads the ENU field (50 µT, 65° inclination) in the sensor
+frame.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+from scipy.interpolate import make_interp_spline
+
+from ..conventions import (
+    GRAVITY_ENU,
+    SENSORS,
+    FloatArray,
+    check_side,
+    quat_from_matrix,
+    quat_make_continuous,
+)
+from ..errors import InputError
+from ..leg_geometry import LegGeometry
+from ..leg_model import DOF_NAMES, LegModel
+from ..trial import ImuTrial
+from .motions import MOTION_FUNCTIONS, MOTIONS, smoothstep
+from .noise import ImuNoise, SoftTissue
+from .placements import random_placements
+
+#: Earth magnetic field in ENU, µT (50 µT, inclination 65° downwards, pointing north).
+MAG_FIELD_ENU_UT = 50.0 * np.array([0.0, np.cos(np.deg2rad(65.0)), -np.sin(np.deg2rad(65.0))])
+
+#: Rotation of the pelvis frame (x anterior, y up, z right) at zero heading in ENU:
+#: facing east, up is up, right is south.
+R_ENU_PELVIS0 = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+
+#: Joint angles (by angles.csv index) that drive each sensor's soft-tissue artefact.
+_STA_DRIVERS: dict[str, tuple[int, ...]] = {
+    "pelvis": (0,),
+    "thigh": (0, 3),
+    "shank": (3, 6),
+    "foot": (6,),
+}
+
+
+@dataclass
+class Simulation:
+    """Everything the simulator put in and what the IMUs measured.
+
+    Attributes:
+        trial: the measured trial (noise and bias added).
+        clean: the ideal, noise-free measurements.
+        quat_wxyz: ``{sensor: (N, 4)}`` true orientations, sensor → ENU.
+        sensor_pos_m: ``{sensor: (N, 3)}`` true sensor positions in ENU, m.
+        angles_rad: (N, 9) true ISB joint angles, angles.csv order, rad.
+        positions_m: (N, 6) true pelvis→foot sensor and hip→ankle centre
+            vectors in the pelvis sensor frame, positions.csv order, m.
+        truth: true joint parameters in the calibration.json schema (+ extras).
+        model: the true :class:`LegModel` (free-flyer root).
+        gyr_bias_rps: ``{sensor: (3,)}`` the constant gyro bias added, rad/s.
+        sta_offsets_m: ``{sensor: (N, 3)}`` soft-tissue displacement in the segment frame, m.
+    """
+
+    trial: ImuTrial
+    clean: ImuTrial
+    quat_wxyz: dict[str, FloatArray]
+    sensor_pos_m: dict[str, FloatArray]
+    angles_rad: FloatArray
+    positions_m: FloatArray
+    truth: dict[str, Any]
+    model: LegModel
+    gyr_bias_rps: dict[str, FloatArray]
+    sta_offsets_m: dict[str, FloatArray] = field(default_factory=dict)
+    runtime_s: float = 0.0
+
+
+def _root_joint() -> pin.JointModelComposite:
+    root = pin.JointModelComposite()
+    root.addJoint(pin.JointModelPX())
+    root.addJoint(pin.JointModelPY())
+    root.addJoint(pin.JointModelPZ())
+    root.addJoint(pin.JointModelRZ())  # heading about ENU up
+    root.addJoint(pin.JointModelRZ(), pin.SE3(R_ENU_PELVIS0, np.zeros(3)))  # pelvis tilt
+    root.addJoint(pin.JointModelRX())  # obliquity
+    root.addJoint(pin.JointModelRY())  # pelvis rotation
+    return root
+
+
+def simulate(
+    motion: str = "walk",
+    duration_s: float = 60.0,
+    seed: int = 0,
+    *,
+    side: str = "left",
+    rate_hz: float = 100.0,
+    noise: ImuNoise | None = None,
+    soft_tissue: bool | SoftTissue = False,
+    with_mag: bool = True,
+    height_m: float = 1.75,
+    mass_kg: float = 75.0,
+    still_s: float = 1.5,
+    geometry: LegGeometry | None = None,
+) -> Simulation:
+    """Simulate a four-IMU leg trial with known truth.
+
+    Args:
+        motion: one of :data:`~lowerlimb.simulation.motions.MOTIONS`.
+        duration_s: trial length including the initial standing period, s (≥ 2).
+        seed: seeds placements, motion variation and noise.
+        side: ``"left"`` or ``"right"``.
+        rate_hz: sampling rate, Hz.
+        noise: sensor errors; ``None`` means the realistic default :class:`ImuNoise`.
+        soft_tissue: ``True`` (default amplitude) or a :class:`SoftTissue` to let
+            sensors slide with joint angles.
+        with_mag: include magnetometer columns.
+        height_m: subject stature for the template (de Leva 1996), m.
+        mass_kg: subject mass for the template, kg.
+        still_s: standing still at the start, s.
+        geometry: a leg to use instead of the random template placements.
+
+    Returns:
+        A :class:`Simulation`.
+
+    Raises:
+        InputError: unknown motion, side, or non-positive duration/rate.
+    """
+    t_start = time.perf_counter()
+    if motion not in MOTION_FUNCTIONS:
+        raise InputError(f"unknown motion '{motion}'; choose one of {', '.join(MOTIONS)}")
+    try:
+        side = check_side(side)
+    except ValueError as e:
+        raise InputError(str(e)) from None
+    if rate_hz <= 0 or duration_s < 2.0:
+        raise InputError("duration must be at least 2 s and the rate positive; e.g. --duration 60")
+    noise = ImuNoise() if noise is None else noise
+    sta = SoftTissue() if soft_tissue is True else (soft_tissue or None)
+    rng = np.random.default_rng(seed)
+
+    if geometry is None:
+        geometry = LegGeometry.from_anthropometry(side, height_m, mass_kg)
+        geometry.sensor_placements = random_placements(geometry, rng)
+    sim_model = LegModel(geometry, root_joint=_root_joint())
+    model, data = sim_model.model, sim_model.data
+
+    n = int(round(duration_s * rate_hz))
+    t = np.arange(n) / rate_hz
+    s = smoothstep(t, still_s, 1.0)
+    kin = MOTION_FUNCTIONS[motion](t - still_s, s, rng)
+
+    n_root = 7
+    Q = np.zeros((n, model.nq))
+    Q[:, 3] = kin.yaw_rad
+    Q[:, 4:7] = kin.pelvis_euler_rad
+    Q[:, n_root:] = kin.angles_rad
+    if kin.pelvis_pos_m is None:
+        Q[:, :3] = _anchor_pelvis(sim_model, Q)
+    else:
+        Q[:, :3] = kin.pelvis_pos_m
+    spline = make_interp_spline(t, Q, k=5)
+    V = spline.derivative(1)(t)
+    A = spline.derivative(2)(t)
+
+    # soft-tissue displacement (segment frame) and its derivatives
+    sta_dirs: dict[str, FloatArray] = {}
+    if sta is not None:
+        for sensor in SENSORS:
+            d = rng.normal(size=(len(_STA_DRIVERS[sensor]), 3))
+            d *= sta.amplitude_m_per_rad / np.linalg.norm(d, axis=1, keepdims=True)
+            sta_dirs[sensor] = d
+
+    fids = {sensor: sim_model.frame_id(f"imu_{sensor}") for sensor in SENSORS}
+    base_pl = {sensor: pin.SE3(model.frames[fids[sensor]].placement) for sensor in SENSORS}
+    hip_j = model.getJointId(DOF_NAMES[0])
+    ankle_j = model.getJointId(DOF_NAMES[6])
+    gyr = {sensor: np.empty((n, 3)) for sensor in SENSORS}
+    acc = {sensor: np.empty((n, 3)) for sensor in SENSORS}
+    rot = {sensor: np.empty((n, 3, 3)) for sensor in SENSORS}
+    pos = {sensor: np.empty((n, 3)) for sensor in SENSORS}
+    sta_off = {sensor: np.zeros((n, 3)) for sensor in SENSORS}
+    hip_c = np.empty((n, 3))
+    ankle_c = np.empty((n, 3))
+    LOCAL = pin.ReferenceFrame.LOCAL
+    ang_idx = {sensor: [n_root + i for i in _STA_DRIVERS[sensor]] for sensor in SENSORS}
+    for k in range(n):
+        pin.forwardKinematics(model, data, Q[k], V[k], A[k])
+        hip_c[k] = data.oMi[hip_j].translation
+        ankle_c[k] = data.oMi[ankle_j].translation
+        for sensor in SENSORS:
+            fid = fids[sensor]
+            if sta is not None:
+                d = sta_dirs[sensor]
+                idx = ang_idx[sensor]
+                off = Q[k, idx] @ d
+                off_v = V[k, idx] @ d
+                off_a = A[k, idx] @ d
+                sta_off[sensor][k] = off
+                model.frames[fid].placement = pin.SE3(
+                    base_pl[sensor].rotation, base_pl[sensor].translation + off
+                )
+            oMf = pin.updateFramePlacement(model, data, fid)
+            vel = pin.getFrameVelocity(model, data, fid, LOCAL)
+            acl = pin.getFrameClassicalAcceleration(model, data, fid, LOCAL).linear
+            R = oMf.rotation
+            if sta is not None:
+                R_seg_s = base_pl[sensor].rotation
+                w_seg = R_seg_s @ vel.angular
+                acl = acl + R_seg_s.T @ (2.0 * np.cross(w_seg, off_v) + off_a)
+            gyr[sensor][k] = vel.angular
+            acc[sensor][k] = acl - R.T @ GRAVITY_ENU
+            rot[sensor][k] = R
+            pos[sensor][k] = oMf.translation
+    if sta is not None:
+        for sensor in SENSORS:
+            model.frames[fids[sensor]].placement = base_pl[sensor]
+
+    quat = {sensor: quat_make_continuous(quat_from_matrix(rot[sensor])) for sensor in SENSORS}
+    mag = {sensor: np.einsum("nji,j->ni", rot[sensor], MAG_FIELD_ENU_UT) for sensor in SENSORS}
+    Rp = rot["pelvis"]
+    p2f = np.einsum("nji,nj->ni", Rp, pos["foot"] - pos["pelvis"])
+    h2a = np.einsum("nji,nj->ni", Rp, ankle_c - hip_c)
+
+    clean = ImuTrial(t.copy(), acc, gyr, mag if with_mag else None, side)
+    bias = {}
+    n_acc, n_gyr, n_mag = {}, {}, {}
+    for sensor in SENSORS:
+        b = rng.normal(size=3)
+        bias[sensor] = noise.gyr_bias_rps * b / np.linalg.norm(b)
+        n_gyr[sensor] = gyr[sensor] + bias[sensor] + noise.gyr_std_rps * rng.normal(size=(n, 3))
+        n_acc[sensor] = acc[sensor] + noise.acc_std_mps2 * rng.normal(size=(n, 3))
+        n_mag[sensor] = mag[sensor] + noise.mag_std_ut * rng.normal(size=(n, 3))
+    trial = ImuTrial(t.copy(), n_acc, n_gyr, n_mag if with_mag else None, side)
+
+    true_model = LegModel(sim_model.geometry)
+    truth = true_model.calibration_dict("truth")
+    truth.update(
+        {
+            "motion": motion,
+            "seed": seed,
+            "rate_hz": rate_hz,
+            "duration_s": duration_s,
+            "height_m": height_m,
+            "mass_kg": mass_kg,
+            "noise": {
+                "gyr_std_rps": noise.gyr_std_rps,
+                "acc_std_mps2": noise.acc_std_mps2,
+                "gyr_bias_rps": noise.gyr_bias_rps,
+                "mag_std_ut": noise.mag_std_ut,
+            },
+            "soft_tissue_m_per_rad": sta.amplitude_m_per_rad if sta is not None else 0.0,
+            "gyr_bias": {sensor: bias[sensor].tolist() for sensor in SENSORS},
+            "urdf": true_model.to_urdf_string(),
+        }
+    )
+    return Simulation(
+        trial=trial,
+        clean=clean,
+        quat_wxyz=quat,
+        sensor_pos_m=pos,
+        angles_rad=kin.angles_rad.copy(),
+        positions_m=np.hstack([p2f, h2a]),
+        truth=truth,
+        model=true_model,
+        gyr_bias_rps=bias,
+        sta_offsets_m=sta_off if sta is not None else {},
+        runtime_s=time.perf_counter() - t_start,
+    )
+
+
+def _anchor_pelvis(sim_model: LegModel, Q: FloatArray) -> FloatArray:
+    """Pelvis positions (N, 3) that keep the ankle centre fixed in the world at its start point."""
+    model, data = sim_model.model, sim_model.data
+    ankle_j = model.getJointId(DOF_NAMES[6])
+    n = Q.shape[0]
+    rel = np.empty((n, 3))
+    q = Q.copy()
+    q[:, :3] = 0.0
+    for k in range(n):
+        pin.forwardKinematics(model, data, q[k])
+        rel[k] = data.oMi[ankle_j].translation
+    anchor = rel[0] + np.array([0.0, 0.0, 0.95 - 0.0])
+    anchor[2] = 0.07
+    return anchor - rel

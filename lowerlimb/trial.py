@@ -1,0 +1,281 @@
+"""``ImuTrial``: a four-IMU recording, read from and written to the DESIGN.md trial CSV.
+
+CSV format: a header row; ``time`` in s; then for each sensor in
+``pelvis, thigh, shank, foot``: ``<sensor>_acc_{x,y,z}`` (m/s², specific
+force), ``<sensor>_gyr_{x,y,z}`` (rad/s), optionally ``<sensor>_mag_{x,y,z}``
+(µT). Validation happens at load time (:meth:`ImuTrial.validate`): every
+problem raises one :class:`~lowerlimb.errors.InputError` subclass whose message
+names the fix.
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.ndimage import uniform_filter1d
+
+from .conventions import GRAVITY_MPS2, SENSORS, FloatArray, check_side
+from .errors import (
+    InputError,
+    MissingColumnError,
+    NonFiniteValueError,
+    TimeAxisError,
+    TooShortError,
+    UnitError,
+)
+
+#: Shortest trial accepted, s.
+MIN_DURATION_S = 2.0
+#: A gyro whose largest angular-rate norm exceeds this (rad/s ≈ 2000 °/s, the
+#: full scale of common IMUs) is taken to be in deg/s.
+GYRO_DEG_PER_S_THRESHOLD = 35.0
+#: An accelerometer whose median norm is below this (m/s²) is taken to be in g.
+ACC_G_THRESHOLD = 3.0
+#: Largest relative deviation of one time step from the median step.
+TIME_JITTER_TOLERANCE = 0.25
+#: Standing-still detection: mean gyro norm (rad/s) and acc-norm spread (m/s²).
+STILL_GYRO_RPS = 0.2
+STILL_ACC_STD_MPS2 = 0.3
+
+
+class StandingStartWarning(UserWarning):
+    """The trial does not start with ≥ 1 s standing still; the first second is the reference."""
+
+
+def column_names(sensor: str, signal: str) -> list[str]:
+    """The three CSV column names of one signal, e.g. ``thigh_gyr_x..z``."""
+    return [f"{sensor}_{signal}_{a}" for a in "xyz"]
+
+
+@dataclass
+class ImuTrial:
+    """A synchronous recording of the four leg IMUs.
+
+    Attributes:
+        time_s: (N,) sample times, s, strictly increasing and evenly spaced.
+        acc: ``{sensor: (N, 3)}`` specific force in the sensor frame, m/s².
+        gyr: ``{sensor: (N, 3)}`` angular velocity in the sensor frame, rad/s.
+        mag: ``{sensor: (N, 3)}`` magnetic field in the sensor frame, µT, or None.
+        side: ``"left"`` or ``"right"``: which leg carries the thigh/shank/foot IMUs.
+    """
+
+    time_s: FloatArray
+    acc: dict[str, FloatArray]
+    gyr: dict[str, FloatArray]
+    mag: dict[str, FloatArray] | None = None
+    side: str = "left"
+    source: str = field(default="", repr=False)
+
+    @property
+    def n_samples(self) -> int:
+        """Number of samples N."""
+        return int(self.time_s.shape[0])
+
+    @property
+    def rate_hz(self) -> float:
+        """Sampling rate, Hz (from the median time step)."""
+        return float(1.0 / np.median(np.diff(self.time_s)))
+
+    @property
+    def duration_s(self) -> float:
+        """Time span of the recording, s."""
+        return float(self.time_s[-1] - self.time_s[0])
+
+    @property
+    def has_mag(self) -> bool:
+        """True when every sensor has magnetometer data."""
+        return self.mag is not None
+
+    # ------------------------------------------------------------ validation
+
+    def validate(self) -> None:
+        """Check the recording; raise the first problem found.
+
+        Raises:
+            TimeAxisError: non-increasing or uneven time.
+            NonFiniteValueError: NaN or inf in any signal.
+            UnitError: gyro in deg/s or accelerometer in g.
+            TooShortError: fewer than 2 s of data.
+            InputError: wrong array shapes or an unknown side.
+        """
+        try:
+            check_side(self.side)
+        except ValueError as e:
+            raise InputError(f"{e}; pass --side left or --side right") from None
+        t = np.asarray(self.time_s, dtype=float)
+        if t.ndim != 1 or t.shape[0] < 2:
+            raise TooShortError(0.0, MIN_DURATION_S)
+        bad_t = np.flatnonzero(~np.isfinite(t))
+        if bad_t.size:
+            raise NonFiniteValueError("time", int(bad_t[0]) + 1)
+        for name, signals in (("acc", self.acc), ("gyr", self.gyr), ("mag", self.mag or {})):
+            for sensor in SENSORS if name != "mag" or self.mag else ():
+                if sensor not in signals:
+                    raise MissingColumnError(f"{sensor}_{name}_x", [], self.source)
+                x = np.asarray(signals[sensor])
+                if x.shape != (t.shape[0], 3):
+                    raise InputError(
+                        f"{sensor} {name} has shape {x.shape}, expected ({t.shape[0]}, 3); "
+                        f"give one row per time sample"
+                    )
+                bad = np.argwhere(~np.isfinite(x))
+                if bad.size:
+                    r, c = bad[0]
+                    raise NonFiniteValueError(f"{sensor}_{name}_{'xyz'[c]}", int(r) + 1)
+        dt = np.diff(t)
+        if np.any(dt <= 0):
+            k = int(np.flatnonzero(dt <= 0)[0])
+            raise TimeAxisError(
+                f"time is not strictly increasing at data row {k + 2} "
+                f"({t[k]:.6g} s then {t[k + 1]:.6g} s); sort the rows and drop duplicates"
+            )
+        med = float(np.median(dt))
+        if np.max(np.abs(dt - med)) > TIME_JITTER_TOLERANCE * med:
+            raise TimeAxisError(
+                f"time steps vary from {dt.min():.4g} s to {dt.max():.4g} s (median {med:.4g} s); "
+                f"resample the trial to a constant rate"
+            )
+        for sensor in SENSORS:
+            gmax = float(np.max(np.linalg.norm(self.gyr[sensor], axis=1)))
+            if gmax > GYRO_DEG_PER_S_THRESHOLD:
+                raise UnitError(
+                    f"{sensor}_gyr",
+                    gmax,
+                    f"{sensor} gyro values up to {gmax:.0f} look like deg/s; "
+                    f"the trial format expects rad/s (multiply by π/180)",
+                )
+            amed = float(np.median(np.linalg.norm(self.acc[sensor], axis=1)))
+            if amed < ACC_G_THRESHOLD:
+                raise UnitError(
+                    f"{sensor}_acc",
+                    amed,
+                    f"{sensor} accelerometer median magnitude {amed:.2f} looks like g; "
+                    f"the trial format expects m/s² (multiply by {GRAVITY_MPS2})",
+                )
+        if self.duration_s < MIN_DURATION_S:
+            raise TooShortError(self.duration_s, MIN_DURATION_S)
+
+    def standing_samples(self, duration_s: float = 1.0) -> int:
+        """Number of samples at the start in which every IMU is still (0 if under ``duration_s``)."""
+        n_min = max(2, int(round(duration_s * self.rate_hz)))
+        still = np.ones(self.n_samples, dtype=bool)
+        win = max(3, int(round(0.1 * self.rate_hz)))
+        for sensor in SENSORS:
+            g = uniform_filter1d(np.linalg.norm(self.gyr[sensor], axis=1), win, mode="nearest")
+            a = np.linalg.norm(self.acc[sensor], axis=1)
+            a_mean = uniform_filter1d(a, win, mode="nearest")
+            a_var = uniform_filter1d((a - a_mean) ** 2, win, mode="nearest")
+            still &= (g < STILL_GYRO_RPS) & (np.sqrt(a_var) < STILL_ACC_STD_MPS2)
+        moving = np.flatnonzero(~still)
+        n_still = int(moving[0]) if moving.size else self.n_samples
+        return n_still if n_still >= n_min else 0
+
+    def has_standing_start(self, duration_s: float = 1.0) -> bool:
+        """True when the recording starts with ≥ ``duration_s`` of every IMU still."""
+        return self.standing_samples(duration_s) > 0
+
+    def reference_samples(self) -> slice:
+        """Samples of the standing reference posture.
+
+        The detected still period at the start; when there is none, the first
+        second, with a one-time :class:`StandingStartWarning`.
+        """
+        n = self.standing_samples(1.0)
+        if n > 0:
+            # the detector lags the start of motion by up to ~0.2 s: keep clear of it
+            n = max(int(round(0.8 * self.rate_hz)), n - int(round(0.25 * self.rate_hz)))
+        if n == 0:
+            warnings.warn(
+                "the trial does not start with 1 s of standing still; "
+                "the first second is taken as the angle reference",
+                StandingStartWarning,
+                stacklevel=2,
+            )
+            n = max(2, int(round(self.rate_hz)))
+        return slice(0, n)
+
+    # ------------------------------------------------------------ CSV
+
+    @classmethod
+    def from_csv(cls, path: str | os.PathLike[str], side: str = "left") -> ImuTrial:
+        """Read and validate a trial CSV.
+
+        Raises:
+            FileNotFoundError: when ``path`` does not exist.
+            InputError: any problem of :meth:`validate`, or a non-numeric cell.
+        """
+        path = os.fspath(path)
+        if not os.path.isfile(path):
+            raise FileNotFoundError(f"trial file not found: {path}")
+        with open(path, newline="", encoding="utf-8-sig") as f:
+            reader = csv.reader(f)
+            try:
+                header = [h.strip() for h in next(reader)]
+            except StopIteration:
+                raise InputError(f"{path} is empty; give a trial CSV with a header row") from None
+        if "time" not in header:
+            raise MissingColumnError("time", header, path)
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                raw = np.genfromtxt(path, delimiter=",", skip_header=1, dtype=float, ndmin=2)
+        except ValueError as e:
+            raise InputError(
+                f"{path} has rows of unequal length or bad cells ({e}); fix the CSV"
+            ) from None
+        if raw.size == 0:
+            raise TooShortError(0.0, MIN_DURATION_S)
+        if raw.shape[1] != len(header):
+            raise InputError(
+                f"{path} has {raw.shape[1]} columns of data but {len(header)} header names; "
+                f"fix the header"
+            )
+        col = {name: i for i, name in enumerate(header)}
+
+        def block(sensor: str, signal: str) -> FloatArray:
+            names = column_names(sensor, signal)
+            for n in names:
+                if n not in col:
+                    raise MissingColumnError(n, header, path)
+            return np.ascontiguousarray(raw[:, [col[n] for n in names]])
+
+        acc = {s: block(s, "acc") for s in SENSORS}
+        gyr = {s: block(s, "gyr") for s in SENSORS}
+        has_mag = all(n in col for s in SENSORS for n in column_names(s, "mag"))
+        mag = {s: block(s, "mag") for s in SENSORS} if has_mag else None
+        trial = cls(raw[:, col["time"]].copy(), acc, gyr, mag, side, source=path)
+        trial.validate()
+        return trial
+
+    def header(self) -> list[str]:
+        """CSV header of this trial."""
+        names = ["time"]
+        for s in SENSORS:
+            names += column_names(s, "acc") + column_names(s, "gyr")
+            if self.mag is not None:
+                names += column_names(s, "mag")
+        return names
+
+    def to_array(self) -> FloatArray:
+        """(N, C) data in the order of :meth:`header`."""
+        cols = [self.time_s[:, None]]
+        for s in SENSORS:
+            cols += [self.acc[s], self.gyr[s]]
+            if self.mag is not None:
+                cols.append(self.mag[s])
+        return np.hstack(cols)
+
+    def to_csv(self, path: str | os.PathLike[str]) -> None:
+        """Write the trial CSV (full float precision)."""
+        np.savetxt(
+            path,
+            self.to_array(),
+            delimiter=",",
+            header=",".join(self.header()),
+            comments="",
+            fmt="%.9g",
+        )

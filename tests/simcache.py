@@ -1,0 +1,32 @@
+"""Cached simulations and the real-data folder, shared by the tests (import as ``simcache``)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from lowerlimb.simulation import Simulation, simulate
+
+_CACHE: dict[tuple[object, ...], Simulation] = {}
+
+
+def cached_simulation(
+    motion: str = "walk", duration_s: float = 20.0, seed: int = 0, **kw: object
+) -> Simulation:
+    """Simulate once per parameter set per test session."""
+    key = (motion, duration_s, seed, tuple(sorted((k, repr(v)) for k, v in kw.items())))
+    if key not in _CACHE:
+        _CACHE[key] = simulate(motion, duration_s, seed, **kw)  # type: ignore[arg-type]
+    return _CACHE[key]
+
+
+def data_dir() -> Path | None:
+    """The shared real-data folder (LOWERLIMB_DATA or ../shared/data beside the checkout)."""
+    env = os.environ.get("LOWERLIMB_DATA")
+    candidates = [Path(env)] if env else []
+    here = Path(__file__).resolve().parents[1]
+    candidates += [here.parent / "shared" / "data", here / ".." / "shared" / "data"]
+    for c in candidates:
+        if c.is_dir():
+            return c.resolve()
+    return None

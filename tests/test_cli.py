@@ -1,0 +1,66 @@
+import json
+
+import numpy as np
+import pytest
+
+from lowerlimb.cli import main
+from lowerlimb.trial import ImuTrial
+
+
+def test_simulate_writes_trial_truth_and_tables(tmp_path, capsys):
+    out = tmp_path / "t.csv"
+    truth = tmp_path / "truth.json"
+    rc = main(
+        [
+            "simulate",
+            "--motion",
+            "squat",
+            "--duration",
+            "5",
+            "--seed",
+            "3",
+            "--out",
+            str(out),
+            "--truth",
+            str(truth),
+            "--side",
+            "right",
+        ]
+    )
+    assert rc == 0
+    trial = ImuTrial.from_csv(out, side="right")
+    assert trial.n_samples == 500 and trial.has_mag
+    t = json.loads(truth.read_text())
+    assert t["format"] == "lowerlimb-calibration/1" and t["side"] == "right"
+    assert set(t["joints"]) == {"hip", "knee", "ankle"}
+    angles = np.loadtxt(tmp_path / "truth_angles.csv", delimiter=",", skiprows=1)
+    assert angles.shape == (500, 10)
+    assert (tmp_path / "truth_positions.csv").read_text().startswith("time,pelvis_to_foot_x")
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["simulate", "--motion", "jog", "--out", "x.csv"], "invalid choice: 'jog'"),
+        (["simulate", "--duration", "-3", "--out", "x.csv"], "must be positive"),
+        (["simulate", "--out", "missing_dir/x.csv"], "does not exist"),
+        (["simulate"], "required: --out"),
+        (["frobnicate"], "invalid choice"),
+        ([], "no command given"),
+        (["calibrate", "nope.csv", "--out", "o"], "not found"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(argv, message, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert message in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert not (tmp_path / "x.csv").exists() and not (tmp_path / "o").exists()
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["--version"])
+    assert e.value.code == 0
+    assert "lowerlimb" in capsys.readouterr().out

@@ -1,0 +1,137 @@
+import numpy as np
+import pytest
+from simcache import cached_simulation
+
+from lowerlimb.errors import (
+    MissingColumnError,
+    NonFiniteValueError,
+    TimeAxisError,
+    TooShortError,
+    UnitError,
+)
+from lowerlimb.trial import ImuTrial, StandingStartWarning
+
+
+def _trial():
+    return cached_simulation("walk", 4.0, 3).trial
+
+
+def _write(tmp_path, trial, edit=None):
+    header = trial.header()
+    data = trial.to_array()
+    if edit:
+        header, data = edit(header, data)
+    path = tmp_path / "t.csv"
+    np.savetxt(path, data, delimiter=",", header=",".join(header), comments="", fmt="%.9g")
+    return path
+
+
+def test_csv_round_trip(tmp_path):
+    trial = _trial()
+    path = tmp_path / "t.csv"
+    trial.to_csv(path)
+    back = ImuTrial.from_csv(path, side="left")
+    assert np.allclose(back.time_s, trial.time_s)
+    for s in trial.acc:
+        assert np.allclose(back.acc[s], trial.acc[s], rtol=1e-8, atol=1e-8)
+        assert np.allclose(back.gyr[s], trial.gyr[s], rtol=1e-8, atol=1e-8)
+        assert np.allclose(back.mag[s], trial.mag[s], rtol=1e-8, atol=1e-7)
+    assert back.rate_hz == pytest.approx(100.0)
+
+
+def test_missing_column(tmp_path):
+    def drop(h, d):
+        i = h.index("shank_gyr_y")
+        return h[:i] + h[i + 1 :], np.delete(d, i, axis=1)
+
+    with pytest.raises(MissingColumnError, match="missing column 'shank_gyr_y'") as e:
+        ImuTrial.from_csv(_write(tmp_path, _trial(), drop))
+    assert e.value.column == "shank_gyr_y"
+
+
+def test_nan(tmp_path):
+    def nan(h, d):
+        d = d.copy()
+        d[10, h.index("foot_acc_z")] = np.nan
+        return h, d
+
+    with pytest.raises(
+        NonFiniteValueError, match="'foot_acc_z' has a NaN or infinite value at data row 11"
+    ):
+        ImuTrial.from_csv(_write(tmp_path, _trial(), nan))
+
+
+def test_non_increasing_time(tmp_path):
+    def back(h, d):
+        d = d.copy()
+        d[50, 0] = d[49, 0]
+        return h, d
+
+    with pytest.raises(TimeAxisError, match="not strictly increasing.*sort the rows"):
+        ImuTrial.from_csv(_write(tmp_path, _trial(), back))
+
+
+def test_uneven_time(tmp_path):
+    def gap(h, d):
+        d = d.copy()
+        d[200:, 0] += 0.05
+        return h, d
+
+    with pytest.raises(TimeAxisError, match="resample the trial to a constant rate"):
+        ImuTrial.from_csv(_write(tmp_path, _trial(), gap))
+
+
+def test_gyro_in_degrees(tmp_path):
+    def deg(h, d):
+        d = d.copy()
+        for s in ("pelvis", "thigh", "shank", "foot"):
+            for a in "xyz":
+                d[:, h.index(f"{s}_gyr_{a}")] = np.rad2deg(d[:, h.index(f"{s}_gyr_{a}")])
+        return h, d
+
+    with pytest.raises(UnitError, match=r"look like deg/s.*multiply by π/180"):
+        ImuTrial.from_csv(_write(tmp_path, _trial(), deg))
+
+
+def test_accelerometer_in_g(tmp_path):
+    def g(h, d):
+        d = d.copy()
+        for a in "xyz":
+            d[:, h.index(f"thigh_acc_{a}")] /= 9.81
+        return h, d
+
+    with pytest.raises(UnitError, match=r"thigh accelerometer .* looks like g.*multiply by 9.81"):
+        ImuTrial.from_csv(_write(tmp_path, _trial(), g))
+
+
+def test_too_short(tmp_path):
+    with pytest.raises(TooShortError, match="at least 2.0 s are needed"):
+        ImuTrial.from_csv(_write(tmp_path, _trial(), lambda h, d: (h, d[:150])))
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        ImuTrial.from_csv(tmp_path / "nope.csv")
+
+
+def test_standing_start_detected():
+    trial = _trial()
+    n = trial.standing_samples()
+    assert 140 <= n <= 200  # 1.5 s still, then a slow quintic ramp starts
+    ref = trial.reference_samples()
+    assert ref.start == 0 and 100 <= ref.stop <= 150
+
+
+def test_no_standing_start_warns_once():
+    trial = _trial()
+    cut = ImuTrial(
+        trial.time_s[200:],
+        {k: v[200:] for k, v in trial.acc.items()},
+        {k: v[200:] for k, v in trial.gyr.items()},
+        None,
+        "left",
+    )
+    assert not cut.has_standing_start()
+    with pytest.warns(StandingStartWarning, match="first second is taken as the angle reference"):
+        ref = cut.reference_samples()
+    assert ref == slice(0, 100)
