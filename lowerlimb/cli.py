@@ -55,12 +55,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
 
     p = sub.add_parser("simulate", help="simulate a four-IMU leg trial with known truth")
-    p.add_argument(
-        "--motion", choices=MOTIONS, default="walk", help="motion to simulate (default: walk)"
-    )
-    p.add_argument(
-        "--duration", type=_positive_float, default=60.0, help="trial length, s (default: 60)"
-    )
+    p.add_argument("--motion", choices=MOTIONS, default="walk", help="motion to simulate (default: walk)")
+    p.add_argument("--duration", type=_positive_float, default=60.0, help="trial length, s (default: 60)")
     p.add_argument(
         "--seed",
         type=int,
@@ -77,9 +73,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--side", choices=("left", "right"), default="left", help="instrumented leg (default: left)"
     )
-    p.add_argument(
-        "--rate", type=_positive_float, default=100.0, help="sampling rate, Hz (default: 100)"
-    )
+    p.add_argument("--rate", type=_positive_float, default=100.0, help="sampling rate, Hz (default: 100)")
     p.add_argument(
         "--noise",
         choices=("realistic", "none"),
@@ -89,9 +83,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--soft-tissue", action="store_true", help="let sensors slide with joint angles")
     p.add_argument("--no-mag", action="store_true", help="omit magnetometer columns")
 
-    p = sub.add_parser(
-        "calibrate", help="calibrate a trial: sensor positions, knee axis, angles, URDF"
-    )
+    p = sub.add_parser("calibrate", help="calibrate a trial: sensor positions, knee axis, angles, URDF")
     p.add_argument("trial", type=Path, metavar="TRIAL.csv", help="trial CSV (DESIGN.md format)")
     p.add_argument(
         "--out",
@@ -114,11 +106,15 @@ def build_parser() -> argparse.ArgumentParser:
         default="mahony",
         help="orientation filter (default: mahony)",
     )
+    p.add_argument("--height", type=_positive_float, default=1.75, help="subject height, m (default: 1.75)")
+    p.add_argument("--mass", type=_positive_float, default=75.0, help="subject mass, kg (default: 75)")
+    p.add_argument("--no-mag", action="store_true", help="ignore magnetometer columns (6-axis fusion)")
     p.add_argument(
-        "--height", type=_positive_float, default=1.75, help="subject height, m (default: 1.75)"
-    )
-    p.add_argument(
-        "--mass", type=_positive_float, default=75.0, help="subject mass, kg (default: 75)"
+        "--s2j",
+        type=Path,
+        metavar="S2J.json",
+        help="fitted time-varying segment-to-joint model (Lee & Lee 2022 M2/M3) for these sensor "
+        "placements; default: constant vectors from this calibration",
     )
 
     p = sub.add_parser("demo", help="simulate a walk, calibrate it and report against the truth")
@@ -128,15 +124,12 @@ def build_parser() -> argparse.ArgumentParser:
         default=Path("lowerlimb_demo"),
         help="output directory (default: ./lowerlimb_demo)",
     )
-    p.add_argument(
-        "--duration", type=_positive_float, default=30.0, help="walk length, s (default: 30)"
-    )
+    p.add_argument("--duration", type=_positive_float, default=30.0, help="walk length, s (default: 30)")
     p.add_argument("--seed", type=int, default=1, help="random seed (default: 1)")
 
     p = sub.add_parser("view", help="meshcat animation of a calibrated trial")
-    p.add_argument(
-        "dir", type=Path, metavar="DIR", help="output directory of 'lowerlimb calibrate'"
-    )
+    p.add_argument("dir", type=Path, metavar="DIR", help="output directory of 'lowerlimb calibrate'")
+    p.add_argument("--open", action="store_true", help="also open the view in a web browser")
     return parser
 
 
@@ -267,6 +260,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             )
         with warnings.catch_warnings():
             warnings.simplefilter("default")
+            # third-party deprecation notices (pyzmq via meshcat…) are not the user's business
+            warnings.filterwarnings("ignore", category=DeprecationWarning)
+            warnings.filterwarnings("ignore", category=PendingDeprecationWarning)
+            warnings.filterwarnings("ignore", category=FutureWarning)
             warnings.formatwarning = _format_warning  # type: ignore[assignment]
             return COMMANDS[args.command](args)
     except (InputError, FileNotFoundError, IsADirectoryError, PermissionError) as e:
@@ -289,9 +286,7 @@ def _one_line(e: BaseException) -> str:
     return " ".join(text.split())
 
 
-def _format_warning(
-    message: Warning | str, category: type[Warning], *_: object, **__: object
-) -> str:
+def _format_warning(message: Warning | str, category: type[Warning], *_: object, **__: object) -> str:
     return f"lowerlimb: warning: {message}\n"
 
 

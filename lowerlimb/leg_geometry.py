@@ -51,6 +51,11 @@ JOINT_LIMITS_RAD: dict[str, tuple[tuple[float, float], ...]] = {
     "ankle": ((-0.9, 0.6), (-0.7, 0.7), (-0.6, 0.6)),
 }
 
+#: MuJoCo's URDF extension: keep the fixed IMU links and the visuals as bodies and geoms.
+MUJOCO_COMPILER = (
+    '<mujoco><compiler fusestatic="false" discardvisual="false" balanceinertia="false"/></mujoco>'
+)
+
 _TINY_MASS = 1e-4
 _TINY_INERTIA = 1e-8
 
@@ -127,9 +132,7 @@ class LegGeometry:
         side = check_side(self.side)
         links: list[yourdfpy.Link] = []
         joints: list[yourdfpy.Joint] = []
-        grey = yourdfpy.Material(
-            name="segment", color=yourdfpy.Color(np.array([0.7, 0.7, 0.75, 1.0]))
-        )
+        grey = yourdfpy.Material(name="segment", color=yourdfpy.Color(np.array([0.7, 0.7, 0.75, 1.0])))
         orange = yourdfpy.Material(name="imu", color=yourdfpy.Color(np.array([1.0, 0.5, 0.0, 1.0])))
 
         def seg_link(name: str) -> yourdfpy.Link:
@@ -142,9 +145,7 @@ class LegGeometry:
                         name=f"{name}_visual",
                         origin=transform(_rx90(), [0.0, -0.5 * L, 0.0]),
                         geometry=yourdfpy.Geometry(
-                            cylinder=yourdfpy.Cylinder(
-                                radius=0.045 if name == "thigh" else 0.035, length=L
-                            )
+                            cylinder=yourdfpy.Cylinder(radius=0.045 if name == "thigh" else 0.035, length=L)
                         ),
                         material=grey,
                     )
@@ -228,9 +229,7 @@ class LegGeometry:
                         yourdfpy.Visual(
                             name=f"imu_{sensor}_visual",
                             origin=np.eye(4),
-                            geometry=yourdfpy.Geometry(
-                                box=yourdfpy.Box(np.array([0.04, 0.03, 0.015]))
-                            ),
+                            geometry=yourdfpy.Geometry(box=yourdfpy.Box(np.array([0.04, 0.03, 0.015]))),
                             material=orange,
                         )
                     ],
@@ -245,15 +244,16 @@ class LegGeometry:
                     origin=self.sensor_placements[sensor],
                 )
             )
-        return yourdfpy.Robot(
-            name=f"lowerlimb_{side}", links=links, joints=joints, materials=[grey, orange]
-        )
+        return yourdfpy.Robot(name=f"lowerlimb_{side}", links=links, joints=joints, materials=[grey, orange])
 
     def to_urdf_string(self) -> str:
         """URDF XML of this leg (yourdfpy writer)."""
         urdf = yourdfpy.URDF(robot=self.to_robot(), build_scene_graph=False, load_meshes=False)
-        text = urdf.write_xml_string()
-        return text.decode("utf-8") if isinstance(text, bytes) else str(text)
+        raw = urdf.write_xml_string()
+        text = raw.decode("utf-8") if isinstance(raw, bytes) else str(raw)
+        # MuJoCo merges fixed links (the IMUs, the pelvis) into their parents unless told not to
+        end = text.rfind("</robot>")
+        return text[:end] + MUJOCO_COMPILER + text[end:]
 
     def write_urdf(self, path: str | os.PathLike[str]) -> None:
         """Write the URDF to ``path``."""
@@ -274,17 +274,13 @@ class LegGeometry:
         """
         text = str(source)
         if text.lstrip().startswith("<"):
-            urdf = yourdfpy.URDF.load(
-                io.BytesIO(text.encode()), build_scene_graph=False, load_meshes=False
-            )
+            urdf = yourdfpy.URDF.load(io.BytesIO(text.encode()), build_scene_graph=False, load_meshes=False)
         else:
             urdf = yourdfpy.URDF.load(os.fspath(source), build_scene_graph=False, load_meshes=False)
         robot = urdf.robot
         jmap = {j.name: j for j in robot.joints}
         lmap = {lk.name: lk for lk in robot.links}
-        needed = [n for j in JOINTS for n in JOINT_DOF_NAMES[j]] + [
-            f"imu_{s}_joint" for s in SENSORS
-        ]
+        needed = [n for j in JOINTS for n in JOINT_DOF_NAMES[j]] + [f"imu_{s}_joint" for s in SENSORS]
         missing = [n for n in needed if n not in jmap]
         if missing:
             raise InputError(

@@ -71,9 +71,7 @@ def _wobble(t: FloatArray, rng: np.random.Generator, amp_deg: float) -> FloatArr
     return out
 
 
-def _out_of_plane(
-    t: FloatArray, rng: np.random.Generator, scale: float = 1.0
-) -> dict[int, FloatArray]:
+def _out_of_plane(t: FloatArray, rng: np.random.Generator, scale: float = 1.0) -> dict[int, FloatArray]:
     """Small hip ad/rotation and ankle inversion/rotation wobble, by angle column index."""
     return {
         1: _wobble(t, rng, 8.0 * scale),  # hip adduction
@@ -90,9 +88,7 @@ def walk(t: FloatArray, s: FloatArray, rng: np.random.Generator) -> MotionKinema
     phase = (stride_hz * t + rng.uniform()) % 1.0
     amp = rng.uniform(0.85, 1.15, size=3)
     deg = np.zeros((n, 9))
-    deg[:, 0] = amp[0] * (
-        10.0 + 20.0 * np.cos(2 * np.pi * phase) + 3.0 * np.cos(4 * np.pi * phase + 0.5)
-    )
+    deg[:, 0] = amp[0] * (10.0 + 20.0 * np.cos(2 * np.pi * phase) + 3.0 * np.cos(4 * np.pi * phase + 0.5))
     deg[:, 3] = amp[1] * (5.0 + 15.0 * _bump(phase, 0.15, 0.08) + 55.0 * _bump(phase, 0.72, 0.12))
     deg[:, 6] = amp[2] * (2.0 + 8.0 * _bump(phase, 0.42, 0.12) - 22.0 * _bump(phase, 0.62, 0.06))
     deg[:, 1] = 5.0 * np.sin(2 * np.pi * phase + 0.3)
@@ -117,10 +113,14 @@ def walk(t: FloatArray, s: FloatArray, rng: np.random.Generator) -> MotionKinema
     )
     turn_hz = rng.uniform(0.03, 0.06)
     yaw = rng.uniform(-np.pi, np.pi) + 0.8 * np.sin(2 * np.pi * turn_hz * t) * s
-    speed = rng.uniform(1.0, 1.4) * s
+    # forward speed fluctuates twice per stride (±0.08–0.14 m/s) and the pelvis
+    # sways laterally once per stride (±2–3 cm), as in normal gait
+    speed = (rng.uniform(1.0, 1.4) + rng.uniform(0.08, 0.14) * np.cos(4 * np.pi * phase + 0.6)) * s
     dt = np.diff(t, prepend=t[0])
-    vel = np.column_stack([speed * np.cos(yaw), speed * np.sin(yaw)])
-    xy = np.cumsum(vel * dt[:, None], axis=0)
+    heading = np.column_stack([np.cos(yaw), np.sin(yaw)])
+    left = np.column_stack([-np.sin(yaw), np.cos(yaw)])
+    xy = np.cumsum(speed[:, None] * heading * dt[:, None], axis=0)
+    xy += (rng.uniform(0.02, 0.03) * np.sin(2 * np.pi * phase) * s)[:, None] * left
     z = 0.95 + 0.02 * np.cos(4 * np.pi * phase) * s
     return MotionKinematics(angles, pelvis, yaw, np.column_stack([xy, z]))
 
@@ -134,9 +134,7 @@ def _cycle(t: FloatArray, period: float, hold: float) -> FloatArray:
     return np.asarray(down - up)
 
 
-def squat(
-    t: FloatArray, s: FloatArray, rng: np.random.Generator, depth: float = 1.0
-) -> MotionKinematics:
+def squat(t: FloatArray, s: FloatArray, rng: np.random.Generator, depth: float = 1.0) -> MotionKinematics:
     """Repeated squats; ``depth`` 1 = full (hip ≈ 95°, knee ≈ 110°), 0.5 = half squat."""
     n = t.shape[0]
     period = rng.uniform(3.0, 4.0)
@@ -175,10 +173,7 @@ def knee_lift(t: FloatArray, s: FloatArray, rng: np.random.Generator) -> MotionK
     for k, w in _out_of_plane(t, rng, 1.3).items():
         angles[:, k] += w
     angles *= s[:, None]
-    pelvis = (
-        np.column_stack([np.deg2rad(-8.0) * c, _wobble(t, rng, 8.0), _wobble(t, rng, 10.0)])
-        * s[:, None]
-    )
+    pelvis = np.column_stack([np.deg2rad(-8.0) * c, _wobble(t, rng, 8.0), _wobble(t, rng, 10.0)]) * s[:, None]
     yaw = rng.uniform(-np.pi, np.pi) + _wobble(t, rng, 40.0) * s
     pos = np.column_stack([0.01 * np.sin(0.7 * t), 0.01 * np.cos(0.5 * t), np.full(n, 0.95)]) * 1.0
     pos[:, :2] *= s[:, None]
@@ -200,16 +195,13 @@ def sit_to_stand(t: FloatArray, s: FloatArray, rng: np.random.Generator) -> Moti
     angles *= s[:, None]
     lean = np.sin(np.pi * c) ** 2  # forward lean in the transitions
     pelvis = (
-        np.column_stack([np.deg2rad(-20.0) * lean, _wobble(t, rng, 4.0), _wobble(t, rng, 6.0)])
-        * s[:, None]
+        np.column_stack([np.deg2rad(-20.0) * lean, _wobble(t, rng, 4.0), _wobble(t, rng, 6.0)]) * s[:, None]
     )
     yaw = rng.uniform(-np.pi, np.pi) + _wobble(t, rng, 10.0) * s
     return MotionKinematics(angles, pelvis, yaw, None)
 
 
-MOTION_FUNCTIONS: dict[
-    str, Callable[[FloatArray, FloatArray, np.random.Generator], MotionKinematics]
-] = {
+MOTION_FUNCTIONS: dict[str, Callable[[FloatArray, FloatArray, np.random.Generator], MotionKinematics]] = {
     "walk": walk,
     "squat": squat,
     "half-squat": half_squat,

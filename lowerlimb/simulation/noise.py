@@ -44,6 +44,10 @@ class SoftTissue:
 
     Attributes:
         amplitude_m_per_rad: displacement per radian of joint angle, m/rad.
+        seed: seeds the directions ``a_Sj``: they belong to the subject and
+            the mounting, so trials of one subject share them. ``None`` uses
+            the trial's seed.
     """
 
     amplitude_m_per_rad: float = 0.012
+    seed: int | None = None

@@ -45,29 +45,19 @@ def random_placements(geometry: LegGeometry, rng: np.random.Generator) -> dict[s
     p = np.array([rng.uniform(-0.14, -0.10), rng.uniform(0.04, 0.10), lat * rng.uniform(0.0, 0.04)])
     out["pelvis"] = transform(_frame_with_normal(np.array([-1.0, 0.0, 0.0]), rng, tilt), p)
     if rng.uniform() < 0.5:  # lateral thigh
-        p = np.array(
-            [rng.uniform(-0.01, 0.03), -rng.uniform(0.35, 0.6) * Lt, lat * rng.uniform(0.07, 0.09)]
-        )
+        p = np.array([rng.uniform(-0.01, 0.03), -rng.uniform(0.35, 0.6) * Lt, lat * rng.uniform(0.07, 0.09)])
         normal = np.array([0.0, 0.0, lat])
     else:  # anterior thigh
-        p = np.array(
-            [rng.uniform(0.06, 0.08), -rng.uniform(0.35, 0.6) * Lt, lat * rng.uniform(-0.01, 0.03)]
-        )
+        p = np.array([rng.uniform(0.06, 0.08), -rng.uniform(0.35, 0.6) * Lt, lat * rng.uniform(-0.01, 0.03)])
         normal = np.array([1.0, 0.0, 0.0])
     out["thigh"] = transform(_frame_with_normal(normal, rng, tilt), p)
     if rng.uniform() < 0.5:  # lateral shank
-        p = np.array(
-            [rng.uniform(-0.01, 0.02), -rng.uniform(0.3, 0.5) * Ls, lat * rng.uniform(0.045, 0.06)]
-        )
+        p = np.array([rng.uniform(-0.01, 0.02), -rng.uniform(0.3, 0.5) * Ls, lat * rng.uniform(0.045, 0.06)])
         normal = np.array([0.0, 0.0, lat])
     else:  # anteromedial shank (on the tibia)
-        p = np.array(
-            [rng.uniform(0.035, 0.05), -rng.uniform(0.3, 0.5) * Ls, -lat * rng.uniform(0.0, 0.02)]
-        )
+        p = np.array([rng.uniform(0.035, 0.05), -rng.uniform(0.3, 0.5) * Ls, -lat * rng.uniform(0.0, 0.02)])
         normal = np.array([1.0, 0.0, -0.4 * lat])
     out["shank"] = transform(_frame_with_normal(normal, rng, tilt), p)
-    p = np.array(
-        [rng.uniform(0.25, 0.4) * Lf, rng.uniform(-0.01, 0.015), lat * rng.uniform(-0.01, 0.02)]
-    )
+    p = np.array([rng.uniform(0.25, 0.4) * Lf, rng.uniform(-0.01, 0.015), lat * rng.uniform(-0.01, 0.02)])
     out["foot"] = transform(_frame_with_normal(np.array([0.3, 1.0, 0.0]), rng, tilt), p)
     return out

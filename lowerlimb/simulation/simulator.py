@@ -175,8 +175,9 @@ def simulate(
     # soft-tissue displacement (segment frame) and its derivatives
     sta_dirs: dict[str, FloatArray] = {}
     if sta is not None:
+        sta_rng = rng if sta.seed is None else np.random.default_rng(sta.seed)
         for sensor in SENSORS:
-            d = rng.normal(size=(len(_STA_DRIVERS[sensor]), 3))
+            d = sta_rng.normal(size=(len(_STA_DRIVERS[sensor]), 3))
             d *= sta.amplitude_m_per_rad / np.linalg.norm(d, axis=1, keepdims=True)
             sta_dirs[sensor] = d
 

@@ -1,0 +1,169 @@
+"""Input checks and signal preparation shared by the calibration functions (internal)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from lowerlimb.calibration.gyro_bias import gyro_bias, initial_still_samples
+from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.constraints.angular_acceleration import angular_acceleration, window_length
+from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass
+from lowerlimb.conventions import FloatArray
+from lowerlimb.errors import InputError, NonFiniteValueError, ShapeError, UnitError
+
+#: Shortest signal accepted by the calibration, s.
+MIN_DURATION_S = 1.0
+#: Gyro readings above this norm (rad/s) look like deg/s.
+GYRO_DEG_PER_S_THRESHOLD = 35.0
+
+
+def check_rate(rate_hz: float) -> float:
+    """Return ``rate_hz`` as float if it is a positive finite number.
+
+    Raises:
+        InputError: naming the fix.
+    """
+    try:
+        r = float(rate_hz)
+    except (TypeError, ValueError):
+        raise InputError(
+            f"rate_hz must be the sampling rate in Hz (a positive number), got {rate_hz!r}"
+        ) from None
+    if not (np.isfinite(r) and r > 0):
+        raise InputError(f"rate_hz must be the sampling rate in Hz (a positive number), got {r}")
+    return r
+
+
+def check_signal(x: ArrayLike, name: str, unit: str, n: int | None = None) -> FloatArray:
+    """A finite (N, 3) float array, or an :class:`InputError` that names the fix.
+
+    Raises:
+        ShapeError: wrong shape or a length different from ``n``.
+        NonFiniteValueError: NaN or inf in the signal.
+        UnitError: a gyro that looks like deg/s.
+    """
+    try:
+        arr = np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise ShapeError(f"{name} must be a numeric (N, 3) array in {unit}") from None
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        hint = " (transpose it: one row per sample)" if arr.ndim == 2 and arr.shape[0] == 3 else ""
+        raise ShapeError(
+            f"{name} must have shape (N, 3): one row per sample, columns x, y, z in {unit}; "
+            f"got shape {arr.shape}{hint}"
+        )
+    if n is not None and arr.shape[0] != n:
+        raise ShapeError(
+            f"{name} has {arr.shape[0]} samples but the first signal has {n}; "
+            f"pass synchronised signals of equal length"
+        )
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        row = int(np.flatnonzero(bad.any(axis=1))[0])
+        raise NonFiniteValueError(name, row)
+    if unit == "rad/s":
+        peak = float(np.max(np.linalg.norm(arr, axis=1))) if arr.size else 0.0
+        if peak > GYRO_DEG_PER_S_THRESHOLD:
+            raise UnitError(
+                name,
+                peak,
+                f"{name} values up to {peak:.0f} look like deg/s; the calibration expects "
+                f"rad/s (multiply by π/180)",
+            )
+    return np.ascontiguousarray(arr)
+
+
+def check_duration(n: int, rate_hz: float, options: CalibrationOptions) -> None:
+    """Raise an :class:`InputError` when ``n`` samples are too few to calibrate."""
+    need = max(
+        int(np.ceil(MIN_DURATION_S * rate_hz)),
+        window_length(rate_hz, options.angacc_window_s, options.angacc_polyorder),
+        12,
+    )
+    if n < need:
+        raise InputError(
+            f"got {n} samples ({n / rate_hz:.2f} s at {rate_hz:g} Hz) but the calibration needs "
+            f"at least {need}; record at least {MIN_DURATION_S:g} s of varied motion"
+        )
+
+
+@dataclass(frozen=True)
+class PreparedSignals:
+    """Bias-corrected gyros and their derivatives, per sensor name.
+
+    Attributes:
+        rate_hz: sampling rate, Hz.
+        acc: ``{sensor: (N, 3)}`` specific force, sensor frame, m/s².
+        gyr: ``{sensor: (N, 3)}`` angular velocity with the bias removed, rad/s.
+        angacc: ``{sensor: (N, 3)}`` angular acceleration, rad/s².
+        gyro_bias: ``{sensor: (3,)}`` the bias that was removed, rad/s.
+        n_still: number of still samples found at the start (0 = none, no bias removed).
+        cutoff_hz: ``{sensor: cut-off}`` of the prefilter, Hz (``None``: unfiltered).
+        gyro_noise_std: ``{sensor: σ}`` gyro white noise per axis during the still
+            period, rad/s (``None`` without a still period).
+    """
+
+    rate_hz: float
+    acc: dict[str, FloatArray]
+    gyr: dict[str, FloatArray]
+    angacc: dict[str, FloatArray]
+    gyro_bias: dict[str, FloatArray]
+    n_still: int
+    cutoff_hz: dict[str, float | None]
+    gyro_noise_std: dict[str, float | None]
+
+
+def prepare_signals(
+    acc: Mapping[str, FloatArray],
+    gyr: Mapping[str, FloatArray],
+    rate_hz: float,
+    options: CalibrationOptions,
+) -> PreparedSignals:
+    """Remove the gyro bias of a still start, low-pass (adaptively) and differentiate the gyros.
+
+    Args:
+        acc: ``{sensor: (N, 3)}`` checked accelerometer signals, m/s² (may be empty).
+        gyr: ``{sensor: (N, 3)}`` checked gyro signals, rad/s.
+        rate_hz: sampling rate, Hz.
+        options: calibration options (window, bias removal).
+
+    Returns:
+        The prepared signals.
+    """
+    n_still = 0
+    if options.remove_gyro_bias:
+        n_still = initial_still_samples(
+            list(gyr.values()), list(acc.values()), rate_hz, min_duration_s=options.still_min_s
+        )
+    bias = {k: gyro_bias(g, n_still) for k, g in gyr.items()}
+    gyr_c = {k: g - bias[k] for k, g in gyr.items()}
+    noise: dict[str, float | None] = {
+        k: float(np.mean(np.std(g[:n_still], axis=0))) if n_still >= 10 else None for k, g in gyr_c.items()
+    }
+    cutoff: dict[str, float | None] = {}
+    for k, g in gyr_c.items():
+        if not options.prefilter:
+            cutoff[k] = None
+        elif options.cutoff_hz is not None:
+            cutoff[k] = options.cutoff_hz if options.cutoff_hz < 0.45 * rate_hz else None
+        else:
+            cutoff[k] = adaptive_cutoff_hz(
+                g,
+                rate_hz,
+                noise_std=noise[k],
+                factor=options.cutoff_factor,
+                min_hz=options.min_cutoff_hz,
+            )
+    gyr_c = {k: lowpass(g, rate_hz, cutoff[k]) for k, g in gyr_c.items()}
+    acc_f = {k: lowpass(a, rate_hz, cutoff.get(k)) for k, a in acc.items()}
+    angacc = {
+        k: angular_acceleration(
+            g, rate_hz, window_s=options.angacc_window_s, polyorder=options.angacc_polyorder
+        )
+        for k, g in gyr_c.items()
+    }
+    return PreparedSignals(rate_hz, acc_f, gyr_c, angacc, bias, n_still, cutoff, noise)

@@ -1,0 +1,514 @@
+"""Hinge-axis estimation from two gyroscopes (Hu et al. 2021, eq. 4–6, 12–15), with sign resolution.
+
+Public entry points:
+
+- :func:`estimate_hinge_axis` (DESIGN.md API): returns the two unit axes;
+- :func:`calibrate_hinge_axis`: the same with diagnostics
+  (:class:`~lowerlimb.calibration.results.HingeAxisCalibration`).
+
+Solving (choices the paper leaves open):
+
+- the axes are parametrised by eq. 5 (corrected) in a *rotated basis*
+  ``j = Q · j(φ, θ)`` whose first column is the starting axis, so every
+  solve starts at (φ, θ) = (0, 0), on the equator, far from the poles where
+  eq. 5 is singular (``‖ω × Q j'‖ = ‖Qᵀω × j'‖``: the data are rotated);
+- ``casadi``/``gn``: ``hinge_starts`` starting pairs along the sensor axes
+  are solved on a subsample (≤ ``swarm_samples`` samples), the best is
+  polished on all samples in a basis centred on it;
+- swarms: ``φ ∈ [−π/2, π/2]``, ``θ ∈ [−2π, 2π]`` per axis (two turns: the optimum is
+  never only on the box edge), identity basis.
+
+Sign resolution (eq. 4/6 cannot see the signs, NOTES.md):
+
+1. *Relative sign*, from the gyros alone. With consistent signs the joint
+   angle ``q(t) = ∫ (ω_C·j_C − ω_P·j_P) dt`` relates the angular-velocity
+   components normal to the axis by a rotation: in 2-D coordinates
+   ``z_S = ω_S·u_S + i ω_S·v_S`` (``(j_S, u_S, v_S)`` right-handed) one has
+   ``z_P = z_C · exp(i(ψ₀ + q(t)))`` with a constant ψ₀. The coherence
+   ``|Σ z_P z̄_C e^{−iq}| / Σ |z_P z_C|`` is near 1 for the right relative sign
+   and small for the wrong one (then ``z_C`` is mirrored and q is wrong).
+2. *Overall sign*: knee flexion is a negative rotation of the shank about a
+   right-pointing axis (ISB, both sides). The recording starts standing
+   (knee extended), so flexion from the start, ``f(t) = −(q(t) − q₀)``, has a
+   large positive and only a small negative excursion. Both axes are
+   flipped when ``P99(f) < −P1(f)``. For a generic hinge the same rule makes
+   the larger excursion of ``q`` negative.
+3. With accelerometers, a centre on the axis is fitted (eq. 16 gauge) and the
+   relative sign cross-checked with the sign-sensitive acceleration relation
+   ``g_P·j_P = g_C·j_C`` (:func:`check_sign_with_acc`): it decides when the
+   gyro coherence is ambiguous (coherence < 0.5 or margin < 0.2) and only
+   warns when it contradicts a clear gyro decision.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import replace
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from lowerlimb.calibration._prepare import (
+    check_duration,
+    check_rate,
+    check_signal,
+    prepare_signals,
+)
+from lowerlimb.calibration._solve import LsqProblem, solve_global, solve_local, subsample_step
+from lowerlimb.calibration.excitation import issue_warnings, jacobian_report
+from lowerlimb.calibration.geometry import basis_with_first_axis
+from lowerlimb.calibration.joint_center import fit_spherical
+from lowerlimb.calibration.options import CalibrationOptions, check_method
+from lowerlimb.calibration.results import HingeAxisCalibration, SphericalJointCalibration
+from lowerlimb.constraints.hinge import (
+    axis_from_angles,
+    hinge_jacobian,
+    hinge_residual,
+    hinge_residual_population,
+    hinge_sample_function,
+)
+from lowerlimb.constraints.spherical import SphericalData, joint_acceleration
+from lowerlimb.conventions import FloatArray
+from lowerlimb.errors import InputError
+
+__all__ = [
+    "estimate_hinge_axis",
+    "calibrate_hinge_axis",
+    "fit_hinge_axis",
+    "relative_sign_coherence",
+    "hinge_angle",
+    "check_sign_with_acc",
+    "acc_sign_correlation",
+]
+
+#: Starting directions (each used for both sensors); the hemisphere suffices (sign symmetry).
+_START_AXES = np.array(
+    [
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [1.0, -1.0, 1.0],
+        [-1.0, 1.0, 1.0],
+        [1.0, 1.0, -1.0],
+    ]
+)
+_START_SUBSAMPLE = 1000
+
+
+def _problem(wp: FloatArray, wc: FloatArray, options: CalibrationOptions) -> LsqProblem:
+    sub = subsample_step(wp.shape[0], options.swarm_samples)
+    wps, wcs = wp[::sub], wc[::sub]
+    half = np.pi / 2
+
+    def cost_batch(X: FloatArray) -> FloatArray:
+        return np.asarray(0.5 * np.mean(hinge_residual_population(X, wps, wcs) ** 2, axis=1))
+
+    return LsqProblem(
+        lambda x: hinge_residual(x, wp, wc),
+        lambda x: hinge_jacobian(x, wp, wc),
+        cost_batch,
+        hinge_sample_function(),
+        np.ascontiguousarray(np.hstack([wp, wc]).T),
+        # θ spans two turns so that every axis has a representation away from the box edge
+        np.array([-half, -2 * np.pi, -half, -2 * np.pi]),
+        np.array([half, 2 * np.pi, half, 2 * np.pi]),
+        bounded=False,
+    )
+
+
+def _local(
+    wp: FloatArray,
+    wc: FloatArray,
+    dp: FloatArray,
+    dc: FloatArray,
+    local: str,
+    options: CalibrationOptions,
+) -> tuple[FloatArray, FloatArray, float, int, bool, str]:
+    Qp, Qc = basis_with_first_axis(dp), basis_with_first_axis(dc)
+    res = solve_local(_problem(wp @ Qp, wc @ Qc, options), np.zeros(4), local, options)
+    jp = Qp @ axis_from_angles(res.x[0], res.x[1])
+    jc = Qc @ axis_from_angles(res.x[2], res.x[3])
+    return jp, jc, float(res.cost), int(res.iterations), bool(res.converged), res.method
+
+
+def hinge_angle(
+    axis_parent: ArrayLike,
+    axis_child: ArrayLike,
+    gyr_parent: FloatArray,
+    gyr_child: FloatArray,
+    rate_hz: float,
+) -> FloatArray:
+    """Rotation angle q(t) of the child about the axis relative to the parent, from q(0) = 0.
+
+    ``q̇ = ω_C·j_C − ω_P·j_P`` integrated by the trapezoidal rule (drifts with
+    gyro bias; use over the recording only for sign decisions).
+
+    Args:
+        axis_parent: (3,) axis in the parent frame.
+        axis_child: (3,) axis in the child frame, same physical direction.
+        gyr_parent: (N, 3) parent gyro, rad/s.
+        gyr_child: (N, 3) child gyro, rad/s.
+        rate_hz: sampling rate, Hz.
+
+    Returns:
+        (N,) angle, rad (right-hand rule about the axis).
+    """
+    rate = gyr_child @ np.asarray(axis_child) - gyr_parent @ np.asarray(axis_parent)
+    q = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]))]) / rate_hz
+    return np.asarray(q, dtype=float)
+
+
+def relative_sign_coherence(
+    axis_parent: ArrayLike,
+    axis_child: ArrayLike,
+    gyr_parent: FloatArray,
+    gyr_child: FloatArray,
+    rate_hz: float,
+) -> float:
+    """Coherence (0–1) of the hinge model for the given relative axis sign (module docstring, 1).
+
+    Args:
+        axis_parent: (3,) unit axis, parent frame.
+        axis_child: (3,) unit axis, child frame (the sign under test).
+        gyr_parent: (N, 3) parent gyro, rad/s.
+        gyr_child: (N, 3) child gyro, rad/s.
+        rate_hz: sampling rate, Hz.
+
+    Returns:
+        ``|Σ z_P z̄_C e^{−iq}| / Σ |z_P z_C|``; near 1 for the consistent sign.
+    """
+    Qp = basis_with_first_axis(axis_parent)
+    Qc = basis_with_first_axis(axis_child)
+    zp = gyr_parent @ Qp[:, 1] + 1j * (gyr_parent @ Qp[:, 2])
+    zc = gyr_child @ Qc[:, 1] + 1j * (gyr_child @ Qc[:, 2])
+    q = hinge_angle(Qp[:, 0], Qc[:, 0], gyr_parent, gyr_child, rate_hz)
+    m = zp * np.conj(zc) * np.exp(-1j * q)
+    den = float(np.sum(np.abs(m)))
+    return float(np.abs(np.sum(m)) / den) if den > 0 else 0.0
+
+
+def check_sign_with_acc(
+    axis_parent: ArrayLike,
+    axis_child: ArrayLike,
+    joint_acc_parent: FloatArray,
+    joint_acc_child: FloatArray,
+) -> float:
+    """Correlation of ``g_P·j_P`` and ``g_C·j_C`` (> 0: the axes point the same way).
+
+    Args:
+        axis_parent: (3,) unit axis, parent frame.
+        axis_child: (3,) unit axis, child frame.
+        joint_acc_parent: (N, 3) acceleration of a point of the axis seen from the parent, m/s².
+        joint_acc_child: (N, 3) the same seen from the child, m/s².
+
+    Returns:
+        The (uncentred) correlation coefficient in [−1, 1].
+    """
+    a = joint_acc_parent @ np.asarray(axis_parent)
+    b = joint_acc_child @ np.asarray(axis_child)
+    den = float(np.sqrt(np.sum(a * a) * np.sum(b * b)))
+    return float(np.sum(a * b) / den) if den > 0 else 0.0
+
+
+def acc_sign_correlation(
+    data: SphericalData, axis_parent: FloatArray, axis_child: FloatArray, options: CalibrationOptions
+) -> tuple[float, SphericalJointCalibration]:
+    """:func:`check_sign_with_acc` at a centre fitted on the axis (gauge of eq. 16), quietly.
+
+    Args:
+        data: the pair's prepared signals (with accelerometers).
+        axis_parent: (3,) candidate axis, parent frame.
+        axis_child: (3,) candidate axis, child frame (the relative sign under test).
+        options: calibration options (the fit uses NumPy Gauss–Newton on at most 1000
+            samples, without warnings).
+
+    Returns:
+        The correlation and the centre fit (reusable while the relative sign holds).
+    """
+    quiet = replace(options, center_std_tol_m=np.inf, min_rms_rate_rps=0.0)
+    data = data.subsample(subsample_step(data.n_samples, _START_SUBSAMPLE))
+    center = fit_spherical(data, method="gn", options=quiet, gauge_axes=(axis_parent, axis_child))
+    gp = joint_acceleration(
+        data.acc_parent, data.gyr_parent, data.angacc_parent, center.center_in_parent_sensor
+    )
+    gc = joint_acceleration(data.acc_child, data.gyr_child, data.angacc_child, center.center_in_child_sensor)
+    return check_sign_with_acc(axis_parent, axis_child, gp, gc), center
+
+
+def fit_hinge_axis(
+    gyr_parent: FloatArray,
+    gyr_child: FloatArray,
+    *,
+    rate_hz: float,
+    method: str,
+    options: CalibrationOptions,
+    n_still: int = 0,
+    joint: str = "joint",
+    parent_sensor: str = "parent",
+    child_sensor: str = "child",
+    acc_check: Callable[[FloatArray, FloatArray], float] | None = None,
+) -> HingeAxisCalibration:
+    """Solve eq. 12 on prepared gyros, resolve the signs and attach diagnostics.
+
+    Args:
+        gyr_parent: (N, 3) bias-corrected, filtered parent gyro, rad/s.
+        gyr_child: (N, 3) bias-corrected, filtered child gyro, rad/s.
+        rate_hz: sampling rate, Hz.
+        method: one of :data:`~lowerlimb.calibration.options.METHODS`.
+        options: calibration options.
+        n_still: still samples at the start (the angle reference of the sign rule).
+        joint: joint name used in messages.
+        parent_sensor: parent sensor name used in messages.
+        child_sensor: child sensor name used in messages.
+        acc_check: optional ``(j_P, j_C) -> correlation`` of the joint-centre
+            accelerations along the axes (:func:`acc_sign_correlation`); it decides
+            the relative sign when the gyro coherence is ambiguous.
+
+    Returns:
+        The axis result; warnings are issued and recorded.
+
+    Raises:
+        SolverError: the solver failed.
+    """
+    t0 = time.perf_counter()
+    wp, wc = gyr_parent, gyr_child
+    iterations = 0
+    messages: list[str] = []
+    if method in ("casadi", "gn"):
+        step = subsample_step(wp.shape[0], _START_SUBSAMPLE)
+        best: tuple[float, FloatArray, FloatArray] | None = None
+        for d in _START_AXES[: options.hinge_starts]:
+            jp, jc, cost, it, _, _ = _local(wp[::step], wc[::step], d, d, method, options)
+            iterations += it
+            if best is None or cost < best[0]:
+                best = (cost, jp, jc)
+        assert best is not None
+        jp, jc, _, it, converged, solver = _local(wp, wc, best[1], best[2], method, options)
+        iterations += it
+    else:
+        res = solve_global(_problem(wp, wc, options), method, options)
+        jp = axis_from_angles(res.x[0], res.x[1])
+        jc = axis_from_angles(res.x[2], res.x[3])
+        iterations, converged, solver = int(res.iterations), bool(res.converged), res.method
+    jp, jc = jp / np.linalg.norm(jp), jc / np.linalg.norm(jc)
+
+    # 1. relative sign: gyro coherence, settled by the accelerometers when available
+    coh_keep = relative_sign_coherence(jp, jc, wp, wc, rate_hz)
+    coh_flip = relative_sign_coherence(jp, -jc, wp, wc, rate_hz)
+    if coh_flip > coh_keep:
+        jc = -jc
+        coh_keep, coh_flip = coh_flip, coh_keep
+    margin_coh = coh_keep - coh_flip
+    gyro_clear = coh_keep >= 0.5 and margin_coh >= 0.2
+    corr = float("nan")
+    if acc_check is not None:
+        corr = acc_check(jp, jc)
+        if corr < 0 and not gyro_clear:
+            jc, corr = -jc, -corr
+            coh_keep, coh_flip = coh_flip, coh_keep
+            messages.append(
+                f"{joint}: the gyro sign test was ambiguous; the {child_sensor} axis was flipped "
+                f"after the accelerometer check (correlation {corr:.2f})"
+            )
+        elif corr < -0.5:
+            messages.append(
+                f"{joint}: gyro and accelerometer sign tests disagree (coherence margin "
+                f"{margin_coh:.2f}, acceleration correlation {corr:.2f}); kept the gyro decision"
+            )
+    if not gyro_clear and not corr > 0.5:
+        messages.append(
+            f"{joint}: the relative sign of the axes is uncertain (coherence {coh_keep:.2f} vs "
+            f"{coh_flip:.2f}); the {child_sensor} axis may point the opposite way"
+        )
+    # 2. overall sign: flexion f = −(q − q0) mostly positive
+    q = hinge_angle(jp, jc, wp, wc, rate_hz)
+    q0 = float(np.mean(q[: max(n_still, 1)]))
+    f = -(q - q0)
+    hi, lo = float(np.percentile(f, 99)), float(np.percentile(f, 1))
+    if hi < -lo:
+        jp, jc = -jp, -jc
+    margin = abs(hi + lo)
+
+    # diagnostics in a basis centred on the solution (x = 0)
+    Qp, Qc = basis_with_first_axis(jp), basis_with_first_axis(jc)
+    wpr, wcr = wp @ Qp, wc @ Qc
+    r = hinge_residual(np.zeros(4), wpr, wcr)
+    report = jacobian_report(hinge_jacobian(np.zeros(4), wpr, wcr), r, noise_floor=options.noise_floor_rps)
+    std_deg = np.degrees([np.hypot(report.std[0], report.std[1]), np.hypot(report.std[2], report.std[3])])
+    weak_deg = float(np.degrees(report.weakest_std))
+    if weak_deg > options.axis_std_tol_deg:
+        v = report.weakest_direction
+        tilt_p = v[0] * Qp[:, 2] + v[1] * Qp[:, 1]
+        tilt_c = v[2] * Qc[:, 2] + v[3] * Qc[:, 1]
+        messages.append(
+            f"{joint}: the hinge axis is poorly determined (±{weak_deg:.1f}°), tilting towards "
+            f"({', '.join(f'{c:+.2f}' for c in tilt_p)}) in the {parent_sensor} sensor frame and "
+            f"({', '.join(f'{c:+.2f}' for c in tilt_c)}) in the {child_sensor} sensor frame; "
+            f"record motion in which the {parent_sensor} segment also rotates about other axes"
+        )
+    for name, w in ((parent_sensor, wp), (child_sensor, wc)):
+        rms = float(np.sqrt(np.mean(np.sum(w**2, axis=1))))
+        if rms < options.min_rms_rate_rps:
+            messages.append(
+                f"{joint}: the {name} sensor hardly rotates (RMS {rms:.3f} rad/s); the hinge "
+                f"axis cannot be determined; record a trial in which the joint moves"
+            )
+    report.warnings = list(messages)
+    issue_warnings(messages, stacklevel=4)
+    return HingeAxisCalibration(
+        joint=joint,
+        parent_sensor=parent_sensor,
+        child_sensor=child_sensor,
+        axis_in_parent_sensor=jp,
+        axis_in_child_sensor=jc,
+        rms_residual=float(np.sqrt(np.mean(r**2))),
+        excitation=report,
+        axis_std_deg=np.asarray(std_deg, dtype=float),
+        sign_coherence=np.array([coh_keep, coh_flip]),
+        flexion_sign_margin=margin,
+        acc_sign_correlation=corr,
+        method=method,
+        solver=solver,
+        iterations=iterations,
+        converged=converged,
+        solve_time_s=time.perf_counter() - t0,
+        warnings=messages,
+    )
+
+
+def calibrate_hinge_axis(
+    gyr_parent: ArrayLike,
+    gyr_child: ArrayLike,
+    *,
+    rate_hz: float,
+    acc_parent: ArrayLike | None = None,
+    acc_child: ArrayLike | None = None,
+    method: str = "casadi",
+    options: CalibrationOptions | None = None,
+    joint: str = "joint",
+    parent_sensor: str = "parent",
+    child_sensor: str = "child",
+) -> HingeAxisCalibration:
+    """Hinge axis between two IMUs, with diagnostics (see :func:`estimate_hinge_axis`).
+
+    Args:
+        gyr_parent: (N, 3) parent gyroscope, parent sensor frame, rad/s.
+        gyr_child: (N, 3) child gyroscope, child sensor frame, rad/s.
+        rate_hz: common sampling rate, Hz.
+        acc_parent: optional (N, 3) parent accelerometer, m/s²: improves the
+            still-period detection (gyro bias) and cross-checks the relative sign
+            with the joint-centre accelerations.
+        acc_child: optional (N, 3) child accelerometer, m/s² (both or neither).
+        method: ``"casadi"`` (default), ``"gn"``, ``"dwpso"``, ``"gwo"``,
+            ``"dwpso+casadi"`` or ``"gwo+casadi"``.
+        options: tuning parameters (defaults: :class:`CalibrationOptions`).
+        joint: joint name used in messages.
+        parent_sensor: parent sensor name used in messages.
+        child_sensor: child sensor name used in messages.
+
+    Returns:
+        The axes, residual, excitation report and warnings.
+
+    Raises:
+        ShapeError: an array is not (N, 3) or lengths differ.
+        NonFiniteValueError: NaN or inf in a signal.
+        UnitError: a gyro that looks like deg/s.
+        InputError: non-positive rate, too few samples, unknown method, or only
+            one of the two accelerometers.
+        SolverError: the solver failed.
+    """
+    opts = options or CalibrationOptions()
+    check_method(method)
+    rate = check_rate(rate_hz)
+    wp = check_signal(gyr_parent, "gyr_parent", "rad/s")
+    n = wp.shape[0]
+    wc = check_signal(gyr_child, "gyr_child", "rad/s", n)
+    if (acc_parent is None) != (acc_child is None):
+        raise InputError("pass both acc_parent and acc_child, or neither")
+    accs: dict[str, FloatArray] = {}
+    if acc_parent is not None and acc_child is not None:
+        accs = {
+            "p": check_signal(acc_parent, "acc_parent", "m/s²", n),
+            "c": check_signal(acc_child, "acc_child", "m/s²", n),
+        }
+    check_duration(n, rate, opts)
+    sig = prepare_signals(accs, {"p": wp, "c": wc}, rate, opts)
+    acc_check = None
+    if accs:
+        data = SphericalData(
+            sig.acc["p"], sig.gyr["p"], sig.angacc["p"], sig.acc["c"], sig.gyr["c"], sig.angacc["c"]
+        )
+
+        def acc_check(jp: FloatArray, jc: FloatArray) -> float:
+            return acc_sign_correlation(data, jp, jc, opts)[0]
+
+    res = fit_hinge_axis(
+        sig.gyr["p"],
+        sig.gyr["c"],
+        rate_hz=rate,
+        method=method,
+        options=opts,
+        n_still=sig.n_still,
+        joint=joint,
+        parent_sensor=parent_sensor,
+        child_sensor=child_sensor,
+        acc_check=acc_check,
+    )
+    return res
+
+
+def estimate_hinge_axis(
+    gyr_parent: ArrayLike,
+    gyr_child: ArrayLike,
+    *,
+    rate_hz: float,
+    acc_parent: ArrayLike | None = None,
+    acc_child: ArrayLike | None = None,
+    method: str = "casadi",
+    options: CalibrationOptions | None = None,
+) -> tuple[FloatArray, FloatArray]:
+    """Axis of the hinge between two IMUs, in each sensor's frame (Hu 2021 eq. 4–6).
+
+    Any two IMUs on two segments joined by a (near-)hinge work; the parent
+    segment should also rotate about axes other than the hinge (walking does).
+    Start the recording with ≥ 0.5 s still (gyro bias) in the extended
+    reference posture (sign rule).
+
+    Args:
+        gyr_parent: (N, 3) parent gyroscope, parent sensor frame, rad/s.
+        gyr_child: (N, 3) child gyroscope, child sensor frame, rad/s.
+        rate_hz: common sampling rate, Hz.
+        acc_parent: optional (N, 3) parent accelerometer, m/s² (sign cross-check).
+        acc_child: optional (N, 3) child accelerometer, m/s².
+        method: ``"casadi"`` (default), ``"gn"``, ``"dwpso"``, ``"gwo"``,
+            ``"dwpso+casadi"`` or ``"gwo+casadi"``.
+        options: tuning parameters (defaults: :class:`CalibrationOptions`).
+
+    Returns:
+        ``(axis_in_parent, axis_in_child)``: (3,) unit vectors with the same
+        physical direction; for a knee they point to the subject's right
+        (flexion positive), see the module docstring.
+
+    Raises:
+        ShapeError: an array is not (N, 3) or lengths differ.
+        NonFiniteValueError: NaN or inf in a signal.
+        UnitError: a gyro that looks like deg/s.
+        InputError: non-positive rate, too few samples, unknown method, or only
+            one of the two accelerometers.
+        SolverError: the solver failed.
+
+    Warns:
+        ExcitationWarning: the motion leaves the axis or its sign poorly determined.
+    """
+    res = calibrate_hinge_axis(
+        gyr_parent,
+        gyr_child,
+        rate_hz=rate_hz,
+        acc_parent=acc_parent,
+        acc_child=acc_child,
+        method=method,
+        options=options,
+    )
+    return res.axis_in_parent_sensor.copy(), res.axis_in_child_sensor.copy()

@@ -1,0 +1,151 @@
+"""A whole hinge joint from two IMUs: the axis (eq. 4–6), then a centre on it (eq. 1–3, 16).
+
+:func:`calibrate_hinge_joint` is what the leg calibration does at the knee,
+for any two IMUs: the hinge axis with its signs resolved
+(:mod:`~lowerlimb.calibration.hinge_axis`; the accelerometers settle an
+ambiguous relative sign), then the spherical residual restricted to the point
+of the axis nearest the two sensors (Hu 2021 eq. 16,
+:func:`~lowerlimb.constraints.spherical.spherical_axis_gauge_sample_function`).
+Any point of the axis is an equally valid hinge centre: compare centres by
+their distance to the axis line.
+"""
+
+from __future__ import annotations
+
+from numpy.typing import ArrayLike
+
+from lowerlimb.calibration._prepare import (
+    check_duration,
+    check_rate,
+    check_signal,
+    prepare_signals,
+)
+from lowerlimb.calibration.hinge_axis import acc_sign_correlation, fit_hinge_axis
+from lowerlimb.calibration.joint_center import fit_spherical
+from lowerlimb.calibration.options import CalibrationOptions, check_method
+from lowerlimb.calibration.results import HingeJointCalibration
+from lowerlimb.constraints.spherical import SphericalData
+from lowerlimb.conventions import FloatArray
+
+__all__ = ["calibrate_hinge_joint", "fit_hinge_joint"]
+
+
+def fit_hinge_joint(
+    data: SphericalData,
+    *,
+    rate_hz: float,
+    method: str,
+    options: CalibrationOptions,
+    n_still: int = 0,
+    joint: str = "joint",
+    parent_sensor: str = "parent",
+    child_sensor: str = "child",
+) -> HingeJointCalibration:
+    """Axis and centre of a hinge on prepared signals (see the module docstring).
+
+    Args:
+        data: the pair's bias-corrected, filtered signals with α.
+        rate_hz: sampling rate, Hz.
+        method: one of :data:`~lowerlimb.calibration.options.METHODS`.
+        options: calibration options.
+        n_still: still samples at the start (angle reference of the sign rule).
+        joint: joint name used in messages.
+        parent_sensor: parent sensor name used in messages.
+        child_sensor: child sensor name used in messages.
+
+    Returns:
+        The hinge result; warnings are issued and recorded.
+
+    Raises:
+        SolverError: a solver failed.
+    """
+
+    def acc_check(jp: FloatArray, jc: FloatArray) -> float:
+        return acc_sign_correlation(data, jp, jc, options)[0]
+
+    axis = fit_hinge_axis(
+        data.gyr_parent,
+        data.gyr_child,
+        rate_hz=rate_hz,
+        method=method,
+        options=options,
+        n_still=n_still,
+        joint=joint,
+        parent_sensor=parent_sensor,
+        child_sensor=child_sensor,
+        acc_check=acc_check,
+    )
+    center = fit_spherical(
+        data,
+        method=method,
+        options=options,
+        joint=joint,
+        parent_sensor=parent_sensor,
+        child_sensor=child_sensor,
+        gauge_axes=(axis.axis_in_parent_sensor, axis.axis_in_child_sensor),
+    )
+    return HingeJointCalibration(axis=axis, center=center)
+
+
+def calibrate_hinge_joint(
+    acc_parent: ArrayLike,
+    gyr_parent: ArrayLike,
+    acc_child: ArrayLike,
+    gyr_child: ArrayLike,
+    *,
+    rate_hz: float,
+    method: str = "casadi",
+    options: CalibrationOptions | None = None,
+    joint: str = "joint",
+    parent_sensor: str = "parent",
+    child_sensor: str = "child",
+) -> HingeJointCalibration:
+    """Hinge axis and a centre on it between two IMUs, with diagnostics.
+
+    Args:
+        acc_parent: (N, 3) parent accelerometer (specific force), parent sensor frame, m/s².
+        gyr_parent: (N, 3) parent gyroscope, parent sensor frame, rad/s.
+        acc_child: (N, 3) child accelerometer, child sensor frame, m/s².
+        gyr_child: (N, 3) child gyroscope, child sensor frame, rad/s.
+        rate_hz: common sampling rate, Hz.
+        method: ``"casadi"`` (default), ``"gn"``, ``"dwpso"``, ``"gwo"``,
+            ``"dwpso+casadi"`` or ``"gwo+casadi"``.
+        options: tuning parameters (defaults: :class:`CalibrationOptions`).
+        joint: joint name used in messages.
+        parent_sensor: parent sensor name used in messages.
+        child_sensor: child sensor name used in messages.
+
+    Returns:
+        Axes (unit, same physical direction; for a knee pointing right) and the
+        centre on the axis nearest the sensors (m), in both sensor frames.
+
+    Raises:
+        ShapeError: an array is not (N, 3) or lengths differ.
+        NonFiniteValueError: NaN or inf in a signal.
+        UnitError: a gyro that looks like deg/s.
+        InputError: non-positive rate, too few samples, or unknown method.
+        SolverError: a solver failed.
+    """
+    opts = options or CalibrationOptions()
+    check_method(method)
+    rate = check_rate(rate_hz)
+    ap = check_signal(acc_parent, "acc_parent", "m/s²")
+    n = ap.shape[0]
+    wp = check_signal(gyr_parent, "gyr_parent", "rad/s", n)
+    ac = check_signal(acc_child, "acc_child", "m/s²", n)
+    wc = check_signal(gyr_child, "gyr_child", "rad/s", n)
+    check_duration(n, rate, opts)
+    sig = prepare_signals({"p": ap, "c": ac}, {"p": wp, "c": wc}, rate, opts)
+    data = SphericalData(
+        sig.acc["p"], sig.gyr["p"], sig.angacc["p"], sig.acc["c"], sig.gyr["c"], sig.angacc["c"]
+    )
+    return fit_hinge_joint(
+        data,
+        rate_hz=rate,
+        method=method,
+        options=opts,
+        n_still=sig.n_still,
+        joint=joint,
+        parent_sensor=parent_sensor,
+        child_sensor=child_sensor,
+    )

@@ -1,0 +1,310 @@
+"""Joint-centre estimation of a spherical joint from two IMUs (Hu et al. 2021, eq. 1–3, 7–9).
+
+Public entry points:
+
+- :func:`estimate_joint_center` (DESIGN.md API): returns the two centres;
+- :func:`calibrate_spherical_joint`: the same with diagnostics
+  (:class:`~lowerlimb.calibration.results.SphericalJointCalibration`).
+
+Pipeline (choices the paper leaves open are written here):
+
+1. gyro bias removed using a still period at the start
+   (:mod:`~lowerlimb.calibration.gyro_bias`);
+2. gyro and accelerometer low-passed at a motion-adaptive cut-off, α by a
+   Savitzky–Golay derivative (:mod:`lowerlimb.constraints.prefilter`,
+   :mod:`lowerlimb.constraints.angular_acceleration`);
+3. ``min Σ e(t)²`` of eq. 7 with e = ‖g_P‖ − ‖g_C‖ (c = −V convention):
+   ``casadi`` and ``gn`` start from x = 0 (the sensors themselves; the cost
+   is well-behaved there in practice), inside the box ``|c_i| ≤ center_bound_m``;
+   the swarms search that box on at most ``swarm_samples`` samples;
+4. diagnostics from the Jacobian at the solution
+   (:mod:`~lowerlimb.calibration.excitation`).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from lowerlimb.calibration._prepare import (
+    check_duration,
+    check_rate,
+    check_signal,
+    prepare_signals,
+)
+from lowerlimb.calibration._solve import LsqProblem, solve_global, solve_local, subsample_step
+from lowerlimb.calibration.excitation import issue_warnings, jacobian_report
+from lowerlimb.calibration.geometry import basis_with_first_axis
+from lowerlimb.calibration.options import CalibrationOptions, check_method
+from lowerlimb.calibration.results import SphericalJointCalibration
+from lowerlimb.constraints.spherical import (
+    AXIS_GAUGE_MAP,
+    SphericalData,
+    spherical_axis_gauge_sample_function,
+    spherical_jacobian,
+    spherical_residual,
+    spherical_residual_population,
+    spherical_sample_function,
+)
+from lowerlimb.conventions import FloatArray
+
+__all__ = ["estimate_joint_center", "calibrate_spherical_joint", "fit_spherical"]
+
+
+def _spherical_problem(data: SphericalData, options: CalibrationOptions) -> LsqProblem:
+    """Eq. 7 in x = (c_P, c_C) ∈ R⁶."""
+    sub = data.subsample(subsample_step(data.n_samples, options.swarm_samples))
+    b = options.center_bound_m
+
+    def cost_batch(X: FloatArray) -> FloatArray:
+        return np.asarray(0.5 * np.mean(spherical_residual_population(X, sub) ** 2, axis=1))
+
+    return LsqProblem(
+        lambda x: spherical_residual(x, data),
+        lambda x: spherical_jacobian(x, data),
+        cost_batch,
+        spherical_sample_function(),
+        data.data_matrix(),
+        np.full(6, -b),
+        np.full(6, b),
+    )
+
+
+def _axis_problem(rotated: SphericalData, options: CalibrationOptions) -> LsqProblem:
+    """Eq. 7 for a centre on a hinge axis: 5 parameters y, x' = AXIS_GAUGE_MAP y (rotated data)."""
+    sub = rotated.subsample(subsample_step(rotated.n_samples, options.swarm_samples))
+    b = options.center_bound_m
+    E = AXIS_GAUGE_MAP
+
+    def cost_batch(Y: FloatArray) -> FloatArray:
+        r = spherical_residual_population(Y @ E.T, sub)
+        return np.asarray(0.5 * np.mean(r**2, axis=1))
+
+    return LsqProblem(
+        lambda y: spherical_residual(E @ y, rotated),
+        lambda y: spherical_jacobian(E @ y, rotated) @ E,
+        cost_batch,
+        spherical_axis_gauge_sample_function(),
+        rotated.data_matrix(),
+        np.full(5, -b),
+        np.full(5, b),
+    )
+
+
+def _direction_text(v: FloatArray) -> str:
+    n = float(np.linalg.norm(v))
+    if n < 1e-12:
+        return "(none)"
+    u = v / n
+    return "(" + ", ".join(f"{c:+.2f}" for c in u) + f") [weight {n:.2f}]"
+
+
+def fit_spherical(
+    data: SphericalData,
+    *,
+    method: str,
+    options: CalibrationOptions,
+    joint: str = "joint",
+    parent_sensor: str = "parent",
+    child_sensor: str = "child",
+    gauge_axes: tuple[FloatArray, FloatArray] | None = None,
+) -> SphericalJointCalibration:
+    """Solve eq. 7 on prepared signals and attach the excitation diagnostics.
+
+    Args:
+        data: bias-corrected, filtered signals of the pair with α.
+        method: one of :data:`~lowerlimb.calibration.options.METHODS`.
+        options: calibration options.
+        joint: joint name used in messages.
+        parent_sensor: parent sensor name used in messages.
+        child_sensor: child sensor name used in messages.
+        gauge_axes: ``(j_P, j_C)`` for a hinge: the solution is pinned to the
+            point of the axis nearest the sensors (eq. 16), see
+            :func:`~lowerlimb.constraints.spherical.spherical_gauge_sample_function`.
+
+    Returns:
+        The joint result; warnings are issued and recorded.
+
+    Raises:
+        SolverError: the solver failed.
+    """
+    t0 = time.perf_counter()
+    if gauge_axes is None:
+        problem = _spherical_problem(data, options)
+        n_par = 6
+    else:
+        Qp = basis_with_first_axis(gauge_axes[0])
+        Qc = basis_with_first_axis(gauge_axes[1])
+        problem = _axis_problem(data.rotated(Qp, Qc), options)
+        n_par = 5
+    if method in ("casadi", "gn"):
+        result = solve_local(problem, np.zeros(n_par), method, options)
+    else:
+        result = solve_global(problem, method, options)
+    if gauge_axes is None:
+        x = np.asarray(result.x, dtype=float).copy()
+        r = spherical_residual(x, data)
+        report = jacobian_report(spherical_jacobian(x, data), r, noise_floor=options.noise_floor_mps2)
+    else:
+        # y (5) -> x' (rotated frames) -> x = (Q_P c'_P, Q_C c'_C) (sensor frames)
+        M = np.zeros((6, 6))
+        M[:3, :3], M[3:, 3:] = Qp, Qc
+        M = M @ AXIS_GAUGE_MAP
+        x = M @ np.asarray(result.x, dtype=float)
+        r = spherical_residual(x, data)
+        report = jacobian_report(
+            spherical_jacobian(x, data) @ M, r, noise_floor=options.noise_floor_mps2, param_map=M
+        )
+    messages: list[str] = []
+    if report.weakest_std > options.center_std_tol_m:
+        v = report.weakest_direction
+        std_text = (
+            f"±{report.weakest_std * 1000:.0f} mm"
+            if report.weakest_std < 1.0
+            else "unobservable: ± more than 1 m"
+        )
+        messages.append(
+            f"{joint}: the joint centre is poorly determined ({std_text})"
+            f" along {_direction_text(v[:3])} in the {parent_sensor} sensor frame and "
+            f"{_direction_text(v[3:])} in the {child_sensor} sensor frame; record motion that "
+            f"rotates both segments about several axes (not only flexion)"
+        )
+    for name, w in ((parent_sensor, data.gyr_parent), (child_sensor, data.gyr_child)):
+        rms = float(np.sqrt(np.mean(np.sum(w**2, axis=1))))
+        if rms < options.min_rms_rate_rps:
+            messages.append(
+                f"{joint}: the {name} sensor hardly rotates (RMS {rms:.3f} rad/s); the centre in "
+                f"its frame cannot be determined; record a trial in which this segment moves"
+            )
+    report.warnings = list(messages)
+    issue_warnings(messages, stacklevel=4)
+    return SphericalJointCalibration(
+        joint=joint,
+        parent_sensor=parent_sensor,
+        child_sensor=child_sensor,
+        center_in_parent_sensor=x[:3],
+        center_in_child_sensor=x[3:],
+        rms_residual=float(np.sqrt(np.mean(r**2))),
+        excitation=report,
+        method=method,
+        solver=result.method,
+        iterations=int(result.iterations),
+        converged=bool(result.converged),
+        solve_time_s=time.perf_counter() - t0,
+        warnings=messages,
+    )
+
+
+def calibrate_spherical_joint(
+    acc_parent: ArrayLike,
+    gyr_parent: ArrayLike,
+    acc_child: ArrayLike,
+    gyr_child: ArrayLike,
+    *,
+    rate_hz: float,
+    method: str = "casadi",
+    options: CalibrationOptions | None = None,
+    joint: str = "joint",
+    parent_sensor: str = "parent",
+    child_sensor: str = "child",
+) -> SphericalJointCalibration:
+    """Joint centre of a spherical joint between two IMUs, with diagnostics.
+
+    Args:
+        acc_parent: (N, 3) parent accelerometer (specific force), parent sensor frame, m/s².
+        gyr_parent: (N, 3) parent gyroscope, parent sensor frame, rad/s.
+        acc_child: (N, 3) child accelerometer, child sensor frame, m/s².
+        gyr_child: (N, 3) child gyroscope, child sensor frame, rad/s.
+        rate_hz: common sampling rate, Hz.
+        method: ``"casadi"`` (default), ``"gn"``, ``"dwpso"``, ``"gwo"``,
+            ``"dwpso+casadi"`` or ``"gwo+casadi"``.
+        options: tuning parameters (defaults: :class:`CalibrationOptions`).
+        joint: joint name used in messages.
+        parent_sensor: parent sensor name used in messages.
+        child_sensor: child sensor name used in messages.
+
+    Returns:
+        The centres (m) in both frames, residual, excitation report and warnings.
+
+    Raises:
+        ShapeError: an array is not (N, 3) or lengths differ.
+        NonFiniteValueError: NaN or inf in a signal.
+        UnitError: a gyro that looks like deg/s.
+        InputError: non-positive rate, too few samples, or unknown method.
+        SolverError: the solver failed.
+    """
+    opts = options or CalibrationOptions()
+    check_method(method)
+    rate = check_rate(rate_hz)
+    ap = check_signal(acc_parent, "acc_parent", "m/s²")
+    n = ap.shape[0]
+    wp = check_signal(gyr_parent, "gyr_parent", "rad/s", n)
+    ac = check_signal(acc_child, "acc_child", "m/s²", n)
+    wc = check_signal(gyr_child, "gyr_child", "rad/s", n)
+    check_duration(n, rate, opts)
+    sig = prepare_signals({"p": ap, "c": ac}, {"p": wp, "c": wc}, rate, opts)
+    data = SphericalData(
+        sig.acc["p"], sig.gyr["p"], sig.angacc["p"], sig.acc["c"], sig.gyr["c"], sig.angacc["c"]
+    )
+    return fit_spherical(
+        data,
+        method=method,
+        options=opts,
+        joint=joint,
+        parent_sensor=parent_sensor,
+        child_sensor=child_sensor,
+    )
+
+
+def estimate_joint_center(
+    acc_parent: ArrayLike,
+    gyr_parent: ArrayLike,
+    acc_child: ArrayLike,
+    gyr_child: ArrayLike,
+    *,
+    rate_hz: float,
+    method: str = "casadi",
+    options: CalibrationOptions | None = None,
+) -> tuple[FloatArray, FloatArray]:
+    """Centre of the spherical joint between two IMUs, in each sensor's frame (Hu 2021 eq. 1–3).
+
+    Any two IMUs on two segments joined by a (near-)spherical joint work;
+    the motion should rotate both segments about several axes. Start the
+    recording with ≥ 0.5 s still to have the gyro bias removed.
+
+    Args:
+        acc_parent: (N, 3) parent accelerometer (specific force), parent sensor frame, m/s².
+        gyr_parent: (N, 3) parent gyroscope, parent sensor frame, rad/s.
+        acc_child: (N, 3) child accelerometer, child sensor frame, m/s².
+        gyr_child: (N, 3) child gyroscope, child sensor frame, rad/s.
+        rate_hz: common sampling rate, Hz.
+        method: ``"casadi"`` (default), ``"gn"``, ``"dwpso"``, ``"gwo"``,
+            ``"dwpso+casadi"`` or ``"gwo+casadi"``.
+        options: tuning parameters (defaults: :class:`CalibrationOptions`).
+
+    Returns:
+        ``(center_in_parent, center_in_child)``: (3,) vectors from each sensor's
+        origin to the joint centre, in that sensor's frame, m.
+
+    Raises:
+        ShapeError: an array is not (N, 3) or lengths differ.
+        NonFiniteValueError: NaN or inf in a signal.
+        UnitError: a gyro that looks like deg/s.
+        InputError: non-positive rate, too few samples, or unknown method.
+        SolverError: the solver failed.
+
+    Warns:
+        ExcitationWarning: the motion leaves a direction of the centre poorly determined.
+    """
+    res = calibrate_spherical_joint(
+        acc_parent,
+        gyr_parent,
+        acc_child,
+        gyr_child,
+        rate_hz=rate_hz,
+        method=method,
+        options=options,
+    )
+    return res.center_in_parent_sensor.copy(), res.center_in_child_sensor.copy()

@@ -1,0 +1,218 @@
+"""Whole-leg joint-constraint calibration: hip, knee and ankle from four IMUs (Hu et al. 2021 §2–3).
+
+:func:`calibrate_leg` runs, on one :class:`~lowerlimb.trial.ImuTrial`:
+
+1. gyro-bias removal from the still start, motion-adaptive prefilter and α
+   for the four sensors (:mod:`~lowerlimb.calibration._prepare`);
+2. hip: spherical joint pelvis–thigh (eq. 1–3, 7);
+3. knee: hinge axis thigh–shank (eq. 4–6, 12) with the signs resolved so that
+   both axes point to the subject's right (knee flexion positive, see
+   :mod:`~lowerlimb.calibration.hinge_axis`), then a centre on the axis: the
+   spherical residual with a gauge row that pins the point of the axis
+   nearest the two sensors (eq. 16); the relative axis sign is cross-checked
+   with the joint-centre accelerations;
+4. ankle: spherical joint shank–foot.
+
+``runtime_s`` is the wall time of these steps (signal preparation included,
+trial loading excluded), the number DESIGN.md's calibration.json reports.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any, Protocol
+
+import numpy as np
+
+from lowerlimb.calibration._prepare import (
+    check_duration,
+    check_rate,
+    check_signal,
+    prepare_signals,
+)
+from lowerlimb.calibration.hinge_joint import fit_hinge_joint
+from lowerlimb.calibration.joint_center import fit_spherical
+from lowerlimb.calibration.options import CalibrationOptions, check_method
+from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
+from lowerlimb.constraints.spherical import SphericalData
+from lowerlimb.conventions import JOINT_SENSORS, SENSORS, FloatArray
+from lowerlimb.errors import InputError
+
+__all__ = ["CALIBRATION_FORMAT", "LegCalibration", "calibrate_leg"]
+
+#: Value of the ``format`` key of calibration.json.
+CALIBRATION_FORMAT = "lowerlimb-calibration/1"
+
+
+class _TrialLike(Protocol):
+    acc: dict[str, FloatArray]
+    gyr: dict[str, FloatArray]
+    side: str
+
+    @property
+    def rate_hz(self) -> float: ...
+
+
+@dataclass
+class LegCalibration:
+    """Calibrated joints of one leg, serialisable to DESIGN.md's calibration.json.
+
+    Attributes:
+        side: ``"left"`` or ``"right"``.
+        method: calibration method used.
+        hip: pelvis–thigh spherical joint.
+        knee: thigh–shank hinge (axis pointing right, centre on the axis).
+        ankle: shank–foot spherical joint.
+        runtime_s: wall time of the three joints' calibration, s.
+        gyro_bias: ``{sensor: (3,)}`` gyro bias removed, rad/s.
+        still_s: length of the still start used for the bias, s (0: none found).
+        cutoff_hz: ``{sensor: Hz or None}`` prefilter cut-offs.
+    """
+
+    side: str
+    method: str
+    hip: SphericalJointCalibration
+    knee: HingeJointCalibration
+    ankle: SphericalJointCalibration
+    runtime_s: float = 0.0
+    gyro_bias: dict[str, FloatArray] = field(default_factory=dict)
+    still_s: float = 0.0
+    cutoff_hz: dict[str, float | None] = field(default_factory=dict)
+
+    @property
+    def joints(self) -> dict[str, SphericalJointCalibration | HingeJointCalibration]:
+        """``{"hip": …, "knee": …, "ankle": …}``."""
+        return {"hip": self.hip, "knee": self.knee, "ankle": self.ankle}
+
+    @property
+    def warnings(self) -> list[str]:
+        """All excitation and sign warnings of the three joints."""
+        return self.hip.warnings + self.knee.warnings + self.ankle.warnings
+
+    def to_dict(self) -> dict[str, Any]:
+        """The calibration.json document (DESIGN.md schema, metres; extras after)."""
+        return {
+            "format": CALIBRATION_FORMAT,
+            "side": self.side,
+            "method": self.method,
+            "joints": {name: j.to_dict() for name, j in self.joints.items()},
+            "runtime_s": float(self.runtime_s),
+            "gyro_bias_rps": {k: [float(x) for x in v] for k, v in self.gyro_bias.items()},
+            "still_period_s": float(self.still_s),
+            "prefilter_cutoff_hz": {k: (None if v is None else float(v)) for k, v in self.cutoff_hz.items()},
+            "warnings": self.warnings,
+        }
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> LegCalibration:
+        """Inverse of :meth:`to_dict`; only the DESIGN.md keys are required.
+
+        Raises:
+            InputError: a missing key or another format.
+        """
+        fmt = d.get("format")
+        if fmt != CALIBRATION_FORMAT:
+            raise InputError(
+                f"not a calibration document: format is {fmt!r}, expected {CALIBRATION_FORMAT!r}"
+            )
+        try:
+            joints = d["joints"]
+            return cls(
+                side=d["side"],
+                method=d.get("method", ""),
+                hip=SphericalJointCalibration.from_dict(joints["hip"], "hip"),
+                knee=HingeJointCalibration.from_dict(joints["knee"], "knee"),
+                ankle=SphericalJointCalibration.from_dict(joints["ankle"], "ankle"),
+                runtime_s=float(d.get("runtime_s", 0.0)),
+                gyro_bias={k: np.asarray(v, dtype=float) for k, v in d.get("gyro_bias_rps", {}).items()},
+                still_s=float(d.get("still_period_s", 0.0)),
+                cutoff_hz=dict(d.get("prefilter_cutoff_hz", {})),
+            )
+        except KeyError as e:
+            raise InputError(f"calibration document lacks the key {e.args[0]!r}") from None
+
+
+def calibrate_leg(
+    trial: _TrialLike,
+    *,
+    method: str = "casadi",
+    options: CalibrationOptions | None = None,
+) -> LegCalibration:
+    """Calibrate hip, knee and ankle of one leg from a four-IMU trial (Hu et al. 2021).
+
+    Args:
+        trial: an :class:`~lowerlimb.trial.ImuTrial` (``acc``/``gyr`` dicts of
+            (N, 3) arrays for pelvis, thigh, shank, foot in m/s² and rad/s;
+            ``rate_hz``; ``side``). It should start with ≥ 1 s standing still.
+        method: ``"casadi"`` (default), ``"gn"``, ``"dwpso"``, ``"gwo"``,
+            ``"dwpso+casadi"`` or ``"gwo+casadi"``.
+        options: tuning parameters (defaults: :class:`CalibrationOptions`).
+
+    Returns:
+        The calibration; ``to_dict()`` is the calibration.json document.
+
+    Raises:
+        InputError: a sensor is missing, a signal is malformed (``ShapeError``,
+            ``NonFiniteValueError``, ``UnitError``), the trial is too short, the
+            side or the method is unknown.
+        SolverError: a solver failed.
+
+    Warns:
+        ExcitationWarning: a joint is poorly excited (also in ``warnings``).
+    """
+    opts = options or CalibrationOptions()
+    check_method(method)
+    side = getattr(trial, "side", None)
+    if side not in ("left", "right"):
+        raise InputError(f"trial.side must be 'left' or 'right', got {side!r}")
+    rate = check_rate(trial.rate_hz)
+    acc: dict[str, FloatArray] = {}
+    gyr: dict[str, FloatArray] = {}
+    n: int | None = None
+    for s in SENSORS:
+        if s not in trial.acc or s not in trial.gyr:
+            raise InputError(
+                f"the trial has no {s} sensor; calibrate_leg needs acc and gyr of {', '.join(SENSORS)}"
+            )
+        acc[s] = check_signal(trial.acc[s], f"{s} accelerometer", "m/s²", n)
+        n = acc[s].shape[0]
+        gyr[s] = check_signal(trial.gyr[s], f"{s} gyroscope", "rad/s", n)
+    assert n is not None
+    check_duration(n, rate, opts)
+
+    t0 = time.perf_counter()
+    sig = prepare_signals(acc, gyr, rate, opts)
+
+    def data(p: str, c: str) -> SphericalData:
+        return SphericalData(sig.acc[p], sig.gyr[p], sig.angacc[p], sig.acc[c], sig.gyr[c], sig.angacc[c])
+
+    p, c, _ = JOINT_SENSORS["hip"]
+    hip = fit_spherical(data(p, c), method=method, options=opts, joint="hip", parent_sensor=p, child_sensor=c)
+    p, c, _ = JOINT_SENSORS["knee"]
+    knee = fit_hinge_joint(
+        data(p, c),
+        rate_hz=rate,
+        method=method,
+        options=opts,
+        n_still=sig.n_still,
+        joint="knee",
+        parent_sensor=p,
+        child_sensor=c,
+    )
+    p, c, _ = JOINT_SENSORS["ankle"]
+    ankle = fit_spherical(
+        data(p, c), method=method, options=opts, joint="ankle", parent_sensor=p, child_sensor=c
+    )
+    runtime = time.perf_counter() - t0
+    return LegCalibration(
+        side=side,
+        method=method,
+        hip=hip,
+        knee=knee,
+        ankle=ankle,
+        runtime_s=runtime,
+        gyro_bias=sig.gyro_bias,
+        still_s=sig.n_still / rate,
+        cutoff_hz=sig.cutoff_hz,
+    )

@@ -1,0 +1,98 @@
+"""Tuning parameters of the joint-constraint calibration, with their defaults in one place."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from lowerlimb.constraints.angular_acceleration import DEFAULT_POLYORDER, DEFAULT_WINDOW_S
+from lowerlimb.errors import InputError
+
+__all__ = ["METHODS", "CalibrationOptions", "check_method"]
+
+#: Accepted ``method`` values: CasADi Gauss–Newton (default), NumPy Gauss–Newton
+#: with the analytic Jacobians, the two swarms (Hu 2021 §3.2–3.3), and a swarm
+#: followed by a CasADi refinement.
+METHODS: tuple[str, ...] = ("casadi", "gn", "dwpso", "gwo", "dwpso+casadi", "gwo+casadi")
+
+
+def check_method(method: str) -> str:
+    """Return ``method`` if it is one of :data:`METHODS`.
+
+    Raises:
+        InputError: naming the accepted values.
+    """
+    if method not in METHODS:
+        raise InputError(f"unknown calibration method {method!r}; use one of {', '.join(METHODS)}")
+    return method
+
+
+@dataclass(frozen=True)
+class CalibrationOptions:
+    """Parameters of the joint-constraint calibration (defaults chosen on the simulator).
+
+    Attributes:
+        prefilter: low-pass each sensor's gyro and accelerometer at a cut-off
+            adapted to its motion (:mod:`lowerlimb.constraints.prefilter`).
+        cutoff_hz: a fixed cut-off for every sensor instead of the adaptive one, Hz.
+        cutoff_factor: adaptive cut-off over the motion bandwidth.
+        min_cutoff_hz: lowest adaptive cut-off, Hz.
+        angacc_window_s: Savitzky–Golay window of the gyro derivative, s.
+        angacc_polyorder: Savitzky–Golay polynomial order.
+        remove_gyro_bias: subtract the mean gyro of a still period detected at the
+            start of the recording (realistic MEMS bias ≈ 0.01 rad/s).
+        still_min_s: shortest still period used for the bias, s.
+        center_bound_m: search box ``[-b, b]³`` of each joint-centre coordinate, m
+            (the swarms sample it; Hu 2021 use 0.2 m, too small for a hip seen
+            from a mid-thigh sensor).
+        max_iter: iteration limit of the Gauss–Newton solvers.
+        tol: convergence tolerance of the Gauss–Newton solvers (relative step).
+        hinge_starts: number of starting axis pairs of the hinge problem (the
+            residual has sign symmetries and local minima).
+        swarm_samples: the swarms evaluate their population cost on at most this
+            many evenly spaced samples.
+        n_particles: DWPSO population.
+        n_wolves: GWO population.
+        swarm_iter: swarm iterations.
+        seed: seed of the swarms.
+        noise_floor_mps2: lower bound of the residual noise assumed for the
+            spherical covariance, m/s² (noise-free data would otherwise report
+            zero uncertainty even when a direction is unobservable).
+        noise_floor_rps: the same for the hinge residual, rad/s.
+        center_std_tol_m: warn when a joint centre's standard deviation along its
+            weakest direction exceeds this, m.
+        axis_std_tol_deg: warn when the hinge axis's standard deviation exceeds this, deg.
+        min_rms_rate_rps: warn when a sensor's RMS angular rate is below this,
+            rad/s (a segment that hardly rotates does not reveal the joint).
+    """
+
+    prefilter: bool = True
+    cutoff_hz: float | None = None
+    cutoff_factor: float = 2.0
+    min_cutoff_hz: float = 2.5
+    angacc_window_s: float = DEFAULT_WINDOW_S
+    angacc_polyorder: int = DEFAULT_POLYORDER
+    remove_gyro_bias: bool = True
+    still_min_s: float = 0.5
+    center_bound_m: float = 0.4
+    max_iter: int = 50
+    tol: float = 1e-7
+    hinge_starts: int = 3
+    swarm_samples: int = 1500
+    n_particles: int = 40
+    n_wolves: int = 30
+    swarm_iter: int = 150
+    seed: int = 0
+    noise_floor_mps2: float = 0.1
+    noise_floor_rps: float = 0.015
+    center_std_tol_m: float = 0.01
+    axis_std_tol_deg: float = 1.0
+    min_rms_rate_rps: float = 0.1
+
+    def __post_init__(self) -> None:
+        if self.angacc_window_s <= 0:
+            raise InputError(f"angacc_window_s must be > 0 s, got {self.angacc_window_s}")
+        if self.center_bound_m <= 0:
+            raise InputError(f"center_bound_m must be > 0 m, got {self.center_bound_m}")
+        for name in ("max_iter", "hinge_starts", "swarm_samples", "n_particles", "n_wolves"):
+            if getattr(self, name) < 1:
+                raise InputError(f"{name} must be >= 1, got {getattr(self, name)}")

@@ -1,0 +1,121 @@
+"""Motion-adaptive low-pass prefilter of the IMU signals before the joint constraints.
+
+Why: gyro noise differentiated into α is noise in the regressors of the
+spherical-joint problem and shrinks the estimated joint centres (errors in
+variables). Slow motions (squats, sit-to-stand: gyro bandwidth ≈ 2 Hz)
+suffer most; walking needs more bandwidth (foot ≈ 12 Hz). A fixed filter
+cannot serve both, so each sensor gets its own cut-off (choices the paper
+leaves open, tuned on the simulator):
+
+- the gyro's power spectral density (Welch, 5 s segments, summed over axes)
+  is compared with the white-noise level, estimated from the standing-still
+  period at the start (or, without one, from the median PSD above 0.35·rate);
+- the motion bandwidth ``B`` is the highest frequency whose PSD exceeds
+  ``snr`` (10) times the noise level;
+- the cut-off is ``factor · B`` (factor 2), at least ``min_hz`` (2.5 Hz); at
+  or above 0.45·rate the signal is left unfiltered;
+- gyro and accelerometer of that sensor are filtered by the same zero-phase
+  4th-order Butterworth low-pass (``sosfiltfilt``), so that a, ω and α
+  share one frequency response.
+
+Per-sensor cut-offs beat one cut-off per joint on the simulator (walking:
+the pelvis is slow, the thigh fast).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.signal import butter, sosfiltfilt, welch
+
+from lowerlimb.conventions import FloatArray
+from lowerlimb.errors import InputError
+
+__all__ = ["motion_bandwidth_hz", "adaptive_cutoff_hz", "lowpass"]
+
+_NYQUIST_FRACTION = 0.45
+_SEGMENT_S = 5.12
+
+
+def _psd(gyr: FloatArray, rate_hz: float) -> tuple[FloatArray, FloatArray]:
+    nper = int(min(gyr.shape[0], max(16, round(_SEGMENT_S * rate_hz))))
+    f, P = welch(gyr, fs=rate_hz, nperseg=nper, axis=0)
+    return np.asarray(f, dtype=float), np.asarray(P, dtype=float).sum(axis=1)
+
+
+def motion_bandwidth_hz(
+    gyr: ArrayLike, rate_hz: float, *, noise_std: float | None = None, snr: float = 10.0
+) -> float:
+    """Highest frequency at which the gyro's power exceeds ``snr`` times its white-noise level.
+
+    Args:
+        gyr: (N, 3) angular velocity (bias removed), rad/s.
+        rate_hz: sampling rate, Hz.
+        noise_std: white-noise standard deviation per axis, rad/s (e.g. from a
+            still period); ``None`` estimates it from the top of the spectrum.
+        snr: power ratio over the noise level that counts as motion.
+
+    Returns:
+        The bandwidth, Hz (0 when nothing rises above the noise).
+    """
+    g = np.asarray(gyr, dtype=float)
+    f, P = _psd(g, rate_hz)
+    if noise_std is not None and noise_std > 0:
+        level = 3 * 2 * noise_std**2 / rate_hz  # one-sided PSD of white noise, summed over axes
+    else:
+        level = float(np.median(P[f > 0.35 * rate_hz])) if np.any(f > 0.35 * rate_hz) else 0.0
+    above = np.flatnonzero(P > snr * max(level, 1e-30))
+    return float(f[above[-1]]) if above.size else 0.0
+
+
+def adaptive_cutoff_hz(
+    gyr: ArrayLike,
+    rate_hz: float,
+    *,
+    noise_std: float | None = None,
+    factor: float = 2.0,
+    min_hz: float = 2.5,
+    snr: float = 10.0,
+) -> float | None:
+    """Low-pass cut-off for one sensor: ``max(min_hz, factor · bandwidth)``.
+
+    Args:
+        gyr: (N, 3) angular velocity (bias removed), rad/s.
+        rate_hz: sampling rate, Hz.
+        noise_std: gyro white-noise standard deviation per axis, rad/s, or ``None``.
+        factor: cut-off over bandwidth.
+        min_hz: lowest cut-off, Hz.
+        snr: see :func:`motion_bandwidth_hz`.
+
+    Returns:
+        The cut-off in Hz, or ``None`` when it would reach 0.45·rate (no filtering).
+    """
+    fc = max(min_hz, factor * motion_bandwidth_hz(gyr, rate_hz, noise_std=noise_std, snr=snr))
+    return None if fc >= _NYQUIST_FRACTION * rate_hz else float(fc)
+
+
+def lowpass(x: ArrayLike, rate_hz: float, cutoff_hz: float | None, order: int = 4) -> FloatArray:
+    """Zero-phase Butterworth low-pass along axis 0 (``None`` cut-off: returned unchanged).
+
+    Args:
+        x: (N, ...) signal, any unit.
+        rate_hz: sampling rate, Hz.
+        cutoff_hz: -3 dB frequency of each pass, Hz, below 0.5·rate; or ``None``.
+        order: Butterworth order (applied forward and backward).
+
+    Returns:
+        The filtered signal, same shape and unit.
+
+    Raises:
+        InputError: for a cut-off at or above the Nyquist frequency.
+    """
+    arr = np.asarray(x, dtype=float)
+    if cutoff_hz is None:
+        return arr
+    if not 0 < cutoff_hz < 0.5 * rate_hz:
+        raise InputError(
+            f"cutoff_hz must be between 0 and half the sampling rate ({0.5 * rate_hz:g} Hz), got {cutoff_hz}"
+        )
+    sos = butter(order, cutoff_hz, fs=rate_hz, output="sos")
+    padlen = min(arr.shape[0] - 1, 3 * (2 * len(sos) + 1))
+    return np.asarray(sosfiltfilt(sos, arr, axis=0, padlen=padlen), dtype=float)

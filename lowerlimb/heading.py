@@ -1,0 +1,190 @@
+"""Consistent headings of adjacent sensors from the kinematic constraints (issue 5, item 3).
+
+A 6-axis filter knows the vertical but not the heading: every sensor's earth
+frame is turned about the vertical by its own unknown, slowly drifting angle.
+That ruins the out-of-plane joint angles (Hu et al. 2021 report 21–25° ankle
+rotation RMSE). The joints tell us the relative heading of adjacent sensors:
+
+* **Spherical joint** (hip, ankle): the joint centre's acceleration is one
+  vector, whichever sensor it is computed from (Hu et al. eq. 1–3). In the
+  earth frame: ``u = R_p (f_p + ω_p×(ω_p×c_p) + α_p×c_p)`` and the same ``v``
+  from the child; gravity enters both equally and is vertical.
+* **Hinge** (knee): the knee axis is one direction:
+  ``u = R_p j_p``, ``v = R_c j_c``; while the leg is straight the axis is
+  horizontal, which is exactly when it fixes the heading best.
+
+The correction ``δ(t)`` turns the child's earth frame about the vertical so
+that the horizontal parts of ``R_z(δ) v`` and ``u`` agree. It is the
+kernel-weighted circular mean of the per-sample angle,
+``δ(t) = atan2(Σ_k w_k (v_h × u_h)_z, Σ_k w_k v_h·u_h)`` with a Gaussian kernel
+of standard deviation ``window_s`` (default 4 s: long enough to average noise,
+short enough to follow a heading drift of a few degrees per minute). The
+joint accelerations are first low-passed at 4 Hz (zero-phase Butterworth). Each product is
+implicitly weighted by ``‖u_h‖‖v_h‖``, so samples without horizontal signal
+count for nothing; a small share of the whole-trial mean keeps ``δ`` defined
+during long rests. Corrections cascade down the chain: pelvis (kept) →
+thigh → shank → foot. With a magnetometer the same correction removes the
+residual heading disagreement (soft-iron, local disturbances).
+
+**Range-of-motion prior.** When a spherical joint's centre does not accelerate
+horizontally — the ankle of a planted foot in a squat, the hip in a knee lift —
+its relative heading is unobservable from inertial data. A second pass
+(given the segment frames) then adds a weak "soft hinge" term: the segment z
+axes (flexion axes) of the two segments, seen in the earth frame, should agree
+horizontally, i.e. ad/abduction and axial rotation stay small. Its weight
+(``prior_weight``, (m/s²)²) is far below the acceleration information of
+walking, so it decides only where the accelerations say nothing.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.ndimage import gaussian_filter1d
+from scipy.signal import butter, sosfiltfilt
+
+from .constraints.angular_acceleration import angular_acceleration
+from .conventions import FloatArray, quat_multiply, quat_rotate
+
+#: Share of the whole-trial mean blended into each local (kernel-mean) estimate.
+GLOBAL_PRIOR_WEIGHT = 0.1
+#: Low-pass cut-off of the joint accelerations before they are compared, Hz:
+#: limb motion lives below it, most sensor noise above.
+LOWPASS_HZ = 4.0
+
+
+@dataclass(frozen=True)
+class HeadingCorrection:
+    """Relative heading corrections applied to the sensors.
+
+    Attributes:
+        delta_rad: ``{sensor: (N,)}`` total rotation about the vertical applied
+            to each sensor's orientation (pelvis: zeros), rad.
+        joint_delta_rad: ``{joint: (N,)}`` the correction found at each joint, rad.
+    """
+
+    delta_rad: dict[str, FloatArray]
+    joint_delta_rad: dict[str, FloatArray]
+
+
+#: Weight of the soft-hinge range-of-motion prior, (m/s²)² per unit axis product.
+PRIOR_WEIGHT = 0.25
+
+
+def _heading_sums(
+    u: FloatArray, v: FloatArray, rate_hz: float, window_s: float
+) -> tuple[FloatArray, FloatArray]:
+    """Kernel means of the horizontal cross and dot products, blended with their trial means."""
+    cross = v[:, 0] * u[:, 1] - v[:, 1] * u[:, 0]
+    dot = v[:, 0] * u[:, 0] + v[:, 1] * u[:, 1]
+    sigma = max(1.0, window_s * rate_hz)
+    S = gaussian_filter1d(cross, sigma, mode="reflect") + GLOBAL_PRIOR_WEIGHT * np.mean(cross)
+    C = gaussian_filter1d(dot, sigma, mode="reflect") + GLOBAL_PRIOR_WEIGHT * np.mean(dot)
+    return S, C
+
+
+def _lowpass(x: FloatArray, rate_hz: float, cutoff_hz: float = LOWPASS_HZ) -> FloatArray:
+    """Zero-phase 2nd-order Butterworth low-pass along axis 0 (scipy)."""
+    if cutoff_hz >= 0.45 * rate_hz:
+        return x
+    sos = butter(2, cutoff_hz, fs=rate_hz, output="sos")
+    return np.asarray(sosfiltfilt(sos, x, axis=0))
+
+
+def relative_heading(u: FloatArray, v: FloatArray, rate_hz: float, window_s: float = 2.0) -> FloatArray:
+    """Heading angle δ(t) (N,) rad that turns earth vectors ``v`` (N, 3) onto ``u`` (N, 3) about z."""
+    S, C = _heading_sums(u, v, rate_hz, window_s)
+    return np.asarray(np.arctan2(S, C))
+
+
+def rotate_about_vertical(quat_wxyz: FloatArray, delta_rad: FloatArray) -> FloatArray:
+    """Left-multiply orientations (N, 4) by a rotation of ``delta_rad`` (N,) about the earth z."""
+    half = 0.5 * np.asarray(delta_rad)
+    qz = np.column_stack([np.cos(half), np.zeros_like(half), np.zeros_like(half), np.sin(half)])
+    return quat_multiply(qz, quat_wxyz)
+
+
+def joint_acceleration_earth(
+    quat_wxyz: FloatArray, acc: FloatArray, gyr: FloatArray, center: FloatArray, rate_hz: float
+) -> FloatArray:
+    """Joint-centre specific force (N, 3) in the earth frame seen from one sensor (Hu eq. 1–3).
+
+    Args:
+        quat_wxyz: (N, 4) sensor orientation, sensor → earth.
+        acc: (N, 3) specific force, sensor frame, m/s².
+        gyr: (N, 3) angular velocity (bias removed), sensor frame, rad/s.
+        center: (3,) joint centre in the sensor frame (sensor → centre), m.
+        rate_hz: sampling rate, Hz.
+    """
+    alpha = angular_acceleration(gyr, rate_hz)
+    c = np.asarray(center, dtype=float)
+    a = acc + np.cross(gyr, np.cross(gyr, c)) + np.cross(alpha, c)
+    return _lowpass(quat_rotate(quat_wxyz, a), rate_hz)
+
+
+def correct_headings(
+    quat_wxyz: dict[str, FloatArray],
+    acc: dict[str, FloatArray],
+    gyr: dict[str, FloatArray],
+    calibration: dict[str, object],
+    rate_hz: float,
+    *,
+    window_s: float = 4.0,
+    R_sensor_segment: dict[str, FloatArray] | None = None,
+    prior_weight: float = PRIOR_WEIGHT,
+    common_heading_weight: float = 0.0,
+) -> tuple[dict[str, FloatArray], HeadingCorrection]:
+    """Make the headings of thigh, shank and foot consistent with the pelvis.
+
+    Args:
+        quat_wxyz: ``{sensor: (N, 4)}`` filter orientations, sensor → (own) earth frame.
+        acc: ``{sensor: (N, 3)}`` specific force, m/s².
+        gyr: ``{sensor: (N, 3)}`` angular velocity with the bias removed, rad/s.
+        calibration: ``calibration.json`` dict (joint centres, knee axes).
+        rate_hz: sampling rate, Hz.
+        window_s: Gaussian kernel standard deviation, s.
+        R_sensor_segment: segment frames in the sensor frames (from a first
+            pass); enables the range-of-motion prior at the hip and ankle.
+        prior_weight: weight of that prior, (m/s²)².
+        common_heading_weight: weight, (m/s²)², of the belief that the input
+            orientations already share one heading (9-axis filters referenced
+            to the magnetic field): pulls every correction towards zero.
+
+    Returns:
+        The corrected orientations and the corrections applied.
+    """
+    joints = calibration["joints"]
+    assert isinstance(joints, dict)
+    out = {"pelvis": np.asarray(quat_wxyz["pelvis"], dtype=float)}
+    total = {"pelvis": np.zeros(len(out["pelvis"]))}
+    per_joint: dict[str, FloatArray] = {}
+    for joint, parent, child in (
+        ("hip", "pelvis", "thigh"),
+        ("knee", "thigh", "shank"),
+        ("ankle", "shank", "foot"),
+    ):
+        j = joints[joint]
+        q_child = np.asarray(quat_wxyz[child], dtype=float)
+        if j.get("type") == "hinge":
+            u = quat_rotate(out[parent], np.asarray(j["axis_in_parent_sensor"], dtype=float))
+            v = quat_rotate(q_child, np.asarray(j["axis_in_child_sensor"], dtype=float))
+        else:
+            u = joint_acceleration_earth(
+                out[parent], acc[parent], gyr[parent], np.asarray(j["center_in_parent_sensor"]), rate_hz
+            )
+            v = joint_acceleration_earth(
+                q_child, acc[child], gyr[child], np.asarray(j["center_in_child_sensor"]), rate_hz
+            )
+        S, C = _heading_sums(u, v, rate_hz, window_s)
+        if R_sensor_segment is not None and j.get("type") != "hinge":
+            e_z = np.array([0.0, 0.0, 1.0])
+            up = quat_rotate(out[parent], R_sensor_segment[parent] @ e_z)
+            vp = quat_rotate(q_child, R_sensor_segment[child] @ e_z)
+            Sp, Cp = _heading_sums(up, vp, rate_hz, window_s)
+            S, C = S + prior_weight * Sp, C + prior_weight * Cp
+        delta = np.arctan2(S, C + common_heading_weight)
+        per_joint[joint] = delta
+        out[child] = rotate_about_vertical(q_child, delta)
+        total[child] = delta
+    return out, HeadingCorrection(total, per_joint)

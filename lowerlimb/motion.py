@@ -1,0 +1,93 @@
+"""From sensor orientations to segment motion: consistent headings, segment frames, ISB angles.
+
+The two passes (see :mod:`lowerlimb.heading`): the joint constraints make the
+headings of adjacent sensors consistent; the segment frames are built at the
+standing reference (:mod:`lowerlimb.segment_frames`); a second heading pass adds
+the range-of-motion prior, which needs those frames; the frames are rebuilt and
+the Z-X-Y angles computed (:mod:`lowerlimb.joint_angles`).
+
+Observability (documented limitation): with 6-axis data, a sensor that
+neither rotates nor accelerates horizontally relative to its neighbour (a
+planted foot in squats, a still pelvis in knee lifts) has an unobservable
+heading; only the prior then holds it. A magnetometer (9-axis filters) or a
+few steps of walking in the trial removes the limitation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .conventions import SENSORS, FloatArray
+from .heading import HeadingCorrection, correct_headings
+from .joint_angles import compute_joint_angles
+from .segment_frames import SegmentFrames, mean_quaternion, segment_frames
+
+#: Weight (m/s²)² of the shared magnetic heading when orientations are 9-axis.
+MAG_HEADING_WEIGHT = 0.1
+
+
+@dataclass(frozen=True)
+class SegmentMotion:
+    """Segment kinematics of a trial.
+
+    Attributes:
+        frames: segment frames in the sensor frames.
+        sensor_quat_wxyz: ``{sensor: (N, 4)}`` heading-corrected sensor orientations.
+        segment_quat_wxyz: ``{segment: (N, 4)}`` segment orientations in one earth frame.
+        angles_rad: (N, 9) ISB joint angles, angles.csv order, rad.
+        heading: the heading corrections applied.
+    """
+
+    frames: SegmentFrames
+    sensor_quat_wxyz: dict[str, FloatArray]
+    segment_quat_wxyz: dict[str, FloatArray]
+    angles_rad: FloatArray
+    heading: HeadingCorrection
+
+
+def track_segments(
+    quat_wxyz: dict[str, FloatArray],
+    acc: dict[str, FloatArray],
+    gyr: dict[str, FloatArray],
+    calibration: dict[str, object],
+    *,
+    rate_hz: float,
+    reference: slice,
+    side: str,
+    shared_heading: bool = False,
+    range_of_motion_prior: bool = True,
+) -> SegmentMotion:
+    """Segment orientations and ISB angles from per-sensor orientations.
+
+    Args:
+        quat_wxyz: ``{sensor: (N, 4)}`` filter orientations, sensor → earth (heading
+            arbitrary per sensor for 6-axis filters).
+        acc: ``{sensor: (N, 3)}`` specific force, m/s².
+        gyr: ``{sensor: (N, 3)}`` angular velocity with the bias removed, rad/s.
+        calibration: ``calibration.json`` dict.
+        rate_hz: sampling rate, Hz.
+        reference: samples of the standing reference posture.
+        side: ``"left"`` or ``"right"``.
+        shared_heading: True when the orientations share one heading already
+            (9-axis filters): adds :data:`MAG_HEADING_WEIGHT`.
+        range_of_motion_prior: run the second, prior-regularised heading pass.
+    """
+    w_common = MAG_HEADING_WEIGHT if shared_heading else 0.0
+    qc, corr = correct_headings(quat_wxyz, acc, gyr, calibration, rate_hz, common_heading_weight=w_common)
+    frames = segment_frames(calibration, {s: mean_quaternion(qc[s][reference]) for s in SENSORS}, side)
+    if range_of_motion_prior:
+        qc, corr = correct_headings(
+            quat_wxyz,
+            acc,
+            gyr,
+            calibration,
+            rate_hz,
+            R_sensor_segment=frames.R_sensor_segment,
+            common_heading_weight=w_common,
+        )
+        frames = segment_frames(calibration, {s: mean_quaternion(qc[s][reference]) for s in SENSORS}, side)
+    seg = frames.segment_quaternions(qc)
+    angles = compute_joint_angles(seg, side)
+    return SegmentMotion(frames, qc, seg, np.asarray(angles), corr)

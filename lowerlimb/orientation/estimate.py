@@ -1,0 +1,152 @@
+"""``estimate_orientation``: the one entry point to every orientation filter.
+
+Backends behind one interface (as qpsolvers' ``solve_problem``): each
+filter module provides ``<name>_filter(gyr, acc, mag, *, rate_hz, initial,
+params)`` and a frozen params dataclass; this module validates the input,
+finds the initial state from the still start, and dispatches.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from lowerlimb.errors import InputError, NonFiniteValueError, ShapeError, UnitError
+from lowerlimb.orientation.ftecf import FtecfParams, ftecf_filter
+from lowerlimb.orientation.initialisation import initialise
+from lowerlimb.orientation.madgwick import MadgwickParams, madgwick_filter
+from lowerlimb.orientation.mahony import MahonyParams, mahony_filter
+from lowerlimb.orientation.quest_kf import QuestKfParams, quest_kf_filter
+
+FloatArray = NDArray[np.float64]
+OrientationParams = MahonyParams | FtecfParams | MadgwickParams | QuestKfParams
+
+#: method name -> (filter function, its params class)
+FILTERS: dict[str, tuple[Callable[..., FloatArray], type]] = {
+    "mahony": (mahony_filter, MahonyParams),
+    "ftecf": (ftecf_filter, FtecfParams),
+    "madgwick": (madgwick_filter, MadgwickParams),
+    "quest_kf": (quest_kf_filter, QuestKfParams),
+}
+#: Valid values of ``method``.
+METHODS: tuple[str, ...] = tuple(FILTERS)
+
+#: Largest plausible gyro reading in rad/s (about 2000 °/s, the range of common MEMS gyros).
+MAX_GYRO_RAD_S = 35.0
+#: A median accelerometer norm below this (m/s²) means the unit is g.
+MIN_MEDIAN_ACC_MPS2 = 3.0
+
+
+def _as_signal(name: str, x: Any) -> FloatArray:
+    try:
+        a = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise InputError(f"{name} must be a numeric (N, 3) array; could not convert it: {e}") from e
+    if a.ndim != 2 or a.shape[1] != 3:
+        hint = " (transpose it: one row per sample)" if a.ndim == 2 and a.shape[0] == 3 else ""
+        raise ShapeError(f"{name} must have shape (N, 3) with columns x, y, z; got shape {a.shape}{hint}")
+    if a.shape[0] == 0:
+        raise ShapeError(f"{name} has no samples; pass at least one row")
+    bad = ~np.isfinite(a)
+    if bad.any():
+        row, col = np.argwhere(bad)[0]
+        raise NonFiniteValueError(f"{name}_{'xyz'[col]}", int(row))
+    return a
+
+
+def _check_inputs(
+    gyr: ArrayLike, acc: ArrayLike, mag: ArrayLike | None, rate_hz: Any, method: Any, params: Any
+) -> tuple[FloatArray, FloatArray, FloatArray | None, float]:
+    if not isinstance(method, str) or method not in FILTERS:
+        raise InputError(f"unknown orientation method {method!r}; choose one of {', '.join(METHODS)}")
+    if isinstance(rate_hz, bool) or not isinstance(rate_hz, int | float | np.integer | np.floating):
+        raise InputError(f"rate_hz must be a number in Hz, got {rate_hz!r}")
+    rate = float(rate_hz)
+    if not math.isfinite(rate) or rate <= 0.0:
+        raise InputError(f"rate_hz must be a positive sampling rate in Hz, got {rate_hz!r}")
+    params_cls = FILTERS[method][1]
+    if params is not None and not isinstance(params, params_cls):
+        raise InputError(
+            f"params for method '{method}' must be a {params_cls.__name__}, "
+            f"got {type(params).__name__}; pass {params_cls.__name__}(...) or None"
+        )
+    g = _as_signal("gyr", gyr)
+    a = _as_signal("acc", acc)
+    m = None if mag is None else _as_signal("mag", mag)
+    lengths = {"gyr": len(g), "acc": len(a)} | ({} if m is None else {"mag": len(m)})
+    if len(set(lengths.values())) > 1:
+        desc = ", ".join(f"{k} {v}" for k, v in lengths.items())
+        raise ShapeError(f"gyr, acc and mag must have the same number of samples; got {desc}")
+    g_max = float(np.abs(g).max())
+    if g_max > MAX_GYRO_RAD_S:
+        raise UnitError(
+            "gyr",
+            g_max,
+            f"gyro values up to {g_max:.0f} look like deg/s; estimate_orientation expects "
+            f"rad/s (multiply by π/180)",
+        )
+    step = max(1, len(a) // 2000)  # the median of a subsample is enough to tell g from m/s²
+    a_med = float(np.median(np.linalg.norm(a[::step], axis=1)))
+    if a_med < MIN_MEDIAN_ACC_MPS2:
+        raise UnitError(
+            "acc",
+            a_med,
+            f"accelerometer norms around {a_med:.2f} look like g; estimate_orientation expects "
+            f"m/s² (multiply by 9.81)",
+        )
+    return g, a, m, rate
+
+
+def estimate_orientation(
+    gyr: ArrayLike,
+    acc: ArrayLike,
+    mag: ArrayLike | None = None,
+    *,
+    rate_hz: float,
+    method: str = "mahony",
+    params: OrientationParams | None = None,
+    remove_bias: bool = True,
+) -> FloatArray:
+    """Orientation of one IMU over a recording, from gyro + accelerometer (+ magnetometer).
+
+    The initial attitude comes from the still start of the recording (gravity,
+    and heading from the magnetometer when given, else heading 0: sensor x
+    axis towards east); see :func:`~lowerlimb.orientation.initialisation.initialise`.
+
+    Args:
+        gyr: (N, 3) angular velocity, sensor frame, rad/s.
+        acc: (N, 3) specific force, sensor frame, m/s² (+9.81 along "up" at rest).
+        mag: (N, 3) magnetic field, sensor frame, any unit (µT in trial files),
+            or ``None`` for a 6-axis estimate (heading then drifts freely).
+        rate_hz: Sampling rate, Hz.
+        method: ``"mahony"`` (PI complementary filter, Hu et al. 2021),
+            ``"ftecf"`` (fuzzy ESOQ-2 complementary filter, Zhu & Xu 2018),
+            ``"madgwick"`` (gradient descent) or ``"quest_kf"`` (QUEST +
+            Kalman filter, Yun & Bachmann 2006).
+        params: The method's params dataclass (:class:`MahonyParams`,
+            :class:`FtecfParams`, :class:`MadgwickParams`,
+            :class:`QuestKfParams`); ``None`` uses the benchmarked defaults.
+        remove_bias: Estimate the gyro bias as the mean rate of the still start
+            and subtract it (nothing is subtracted when the start moves).
+
+    Returns:
+        (N, 4) unit quaternions ``w, x, y, z``, sensor -> earth (ENU), sign
+        continuous from sample to sample.
+
+    Raises:
+        ShapeError: an array is not (N, 3), is empty, or lengths differ.
+        NonFiniteValueError: a NaN or infinite sample (names signal, axis, row).
+        UnitError: the gyro looks like deg/s or the accelerometer like g.
+        InputError: unknown ``method``, ``rate_hz <= 0``, or ``params`` of the
+            wrong class.
+    """
+    g, a, m, rate = _check_inputs(gyr, acc, mag, rate_hz, method, params)
+    initial = initialise(g, a, m, rate, estimate_bias=bool(remove_bias))
+    filt = FILTERS[method][0]
+    # Every filter moves its estimate by a small rotation per sample and never
+    # flips its sign, so the output is continuous as it is (tested).
+    return filt(g, a, m, rate_hz=rate, initial=initial, params=params)

@@ -1,0 +1,239 @@
+"""FTECF: fuzzy-tuned ESOQ-2 complementary filter (Zhu & Xu, Sensors 2018), 6- and 9-axis.
+
+Per sample:
+
+1. Gyro quaternion (eq. 1–4): ``q_gyr = q̂_{t−Δt} ⊗ exp(½ ω Δt)`` (the exact
+   solution of eq. 1 for a rate constant over the sample; eq. 4 is its first
+   order), normalised so that eq. 20 holds.
+2. Accelerometer compensation (eq. 18–20): the measured specific force is
+   used as the gravity direction only when ``|‖f‖ − ‖g‖| ≤ δa`` and
+   ``‖ω‖ ≤ δw``; otherwise the gravity direction predicted by ``q_gyr``,
+   ``C_E^B e_z``. Choice: ``‖g‖`` is the accelerometer norm measured during
+   the still start (an accelerometer's own scale), not a fixed 9.78 m/s².
+3. Reference quaternion by ESOQ-2 (eq. 13–17) from two vector pairs:
+   gravity ``(f_B, e_z)`` and, 9-axis, the magnetic field ``(m/‖m‖, r_m)``
+   with ``r_m = (0, cos δ, −sin δ)`` in ENU (eq. 17's ``m`` with declination
+   ε replaced by the dip δ measured at the start, pointing down in the
+   northern hemisphere), weights ``1 − mag_weight`` and ``mag_weight``.
+   Magnetometer samples whose norm or dip departs from the start values are
+   replaced, like eq. 18 does for the accelerometer, by the field predicted
+   by ``q_gyr``. 6-axis (choice): the second pair is the gyro's predicted
+   north, ``C_E^B e_y`` made orthogonal to ``f_B``, against ``e_y`` — the
+   reference then corrects the inclination only and keeps the gyro heading.
+4. Fusion factor (eq. 21, §2.6): ``e1 = ξ / (ξ + ‖q̇_gyr‖)``,
+   ``‖q̇_gyr‖ = ½‖ω‖``, and the fuzzy gain ``K`` of
+   :func:`~lowerlimb.orientation.fuzzy_fusion.fuzzy_gain`;
+   ``μ = KΔt / (1 + KΔt)`` (eq. 10–11).
+5. Blend (eq. 9–12): ``q_m`` is put on the hemisphere of ``q_gyr``,
+   ``q̂ = (1 − μ) q_gyr + μ q_m``, then normalised.
+
+No gyro-bias estimation (the paper has none); the bias measured during the
+still start is subtracted.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+from lowerlimb.orientation._quaternion_nb import norm3, qintegrate, qnormalize, rotate_to_sensor
+from lowerlimb.orientation.esoq2 import esoq2_kernel
+from lowerlimb.orientation.fuzzy_fusion import fuzzy_gain
+from lowerlimb.orientation.initialisation import InitialState
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class FtecfParams:
+    """Parameters of the FTECF; defaults chosen by ``benchmarks/tune_orientation.py``.
+
+    Attributes:
+        xi: ξ of eq. 21, 1/s (paper: 0.0006325).
+        e1_a: Fuzzy input breakpoint: "e1 small" starts to fall here.
+        e1_b: Fuzzy input breakpoint: "e1 large" is 1 from here.
+        gain_a_per_s: Output breakpoint ``k_a`` (1/s); the gain in fast motion
+            is ``k_a / 2``.
+        gain_max_per_s: Output universe end ``k_max`` (1/s), the gain at rest.
+        acc_tol_mps2: δa of eq. 18, m/s² (paper: 0.1).
+        gyr_tol_rad_s: δw of eq. 18, rad/s (paper: 10 °/s).
+        mag_weight: Weight α of the magnetic pair in eq. 13 (the gravity pair
+            has ``1 − α``).
+        mag_norm_tol: Magnetometer samples whose norm differs from the start
+            by more than this fraction are replaced by the prediction.
+        mag_dip_tol_rad: Same for the dip angle, rad.
+    """
+
+    xi: float = 0.0006325
+    e1_a: float = 0.005
+    e1_b: float = 0.05
+    gain_a_per_s: float = 0.1
+    gain_max_per_s: float = 1.0
+    acc_tol_mps2: float = 0.5
+    gyr_tol_rad_s: float = math.radians(30.0)
+    mag_weight: float = 0.1
+    mag_norm_tol: float = 0.1
+    mag_dip_tol_rad: float = math.radians(10.0)
+
+
+@njit(cache=True)
+def _ftecf_loop(
+    gyr: FloatArray,
+    acc: FloatArray,
+    mag: FloatArray,
+    use_mag: bool,
+    dt: float,
+    q0: FloatArray,
+    g_ref: float,
+    mag_norm_ref: float,
+    mag_dip_ref: float,
+    xi: float,
+    e_a: float,
+    e_b: float,
+    k_a: float,
+    k_max: float,
+    acc_tol: float,
+    gyr_tol: float,
+    mag_weight: float,
+    mag_norm_tol: float,
+    mag_dip_tol: float,
+) -> FloatArray:
+    n = gyr.shape[0]
+    out = np.empty((n, 4))
+    w, x, y, z = q0[0], q0[1], q0[2], q0[3]
+    b = np.empty((2, 3))
+    r = np.zeros((2, 3))
+    r[0, 2] = 1.0
+    wts = np.empty(2)
+    rmx = 0.0
+    rmy = math.cos(mag_dip_ref)
+    rmz = -math.sin(mag_dip_ref)
+    for i in range(n):
+        gx, gy, gz = gyr[i, 0], gyr[i, 1], gyr[i, 2]
+        wn = norm3(gx, gy, gz)
+        # 1. gyro quaternion (eq. 1-4)
+        gw_, gx_, gy_, gz_ = qintegrate(w, x, y, z, gx, gy, gz, dt)
+        # 2. accelerometer compensation (eq. 18-20)
+        ax, ay, az = acc[i, 0], acc[i, 1], acc[i, 2]
+        an = norm3(ax, ay, az)
+        if an > 0.0 and abs(an - g_ref) <= acc_tol and wn <= gyr_tol:
+            fx, fy, fz = ax / an, ay / an, az / an
+        else:
+            fx, fy, fz = rotate_to_sensor(gw_, gx_, gy_, gz_, 0.0, 0.0, 1.0)
+        b[0, 0] = fx
+        b[0, 1] = fy
+        b[0, 2] = fz
+        # 3. second vector pair and ESOQ-2 reference quaternion (eq. 13-17)
+        mag_ok = False
+        if use_mag:
+            mx, my, mz = mag[i, 0], mag[i, 1], mag[i, 2]
+            mn = norm3(mx, my, mz)
+            if mn > 0.0:
+                mx /= mn
+                my /= mn
+                mz /= mn
+                dip = math.asin(max(-1.0, min(1.0, -(mx * fx + my * fy + mz * fz))))
+                mag_ok = (
+                    mag_norm_ref <= 0.0
+                    or abs(mn - mag_norm_ref) <= mag_norm_tol * mag_norm_ref
+                    and abs(dip - mag_dip_ref) <= mag_dip_tol
+                )
+            if not mag_ok:
+                mx, my, mz = rotate_to_sensor(gw_, gx_, gy_, gz_, rmx, rmy, rmz)
+            b[1, 0] = mx
+            b[1, 1] = my
+            b[1, 2] = mz
+            r[1, 0] = rmx
+            r[1, 1] = rmy
+            r[1, 2] = rmz
+            wts[0] = 1.0 - mag_weight
+            wts[1] = mag_weight
+        else:
+            nx, ny, nz = rotate_to_sensor(gw_, gx_, gy_, gz_, 0.0, 1.0, 0.0)
+            d = nx * fx + ny * fy + nz * fz
+            nx -= d * fx
+            ny -= d * fy
+            nz -= d * fz
+            nn = norm3(nx, ny, nz)
+            b[1, 0] = nx / nn
+            b[1, 1] = ny / nn
+            b[1, 2] = nz / nn
+            r[1, 0] = 0.0
+            r[1, 1] = 1.0
+            r[1, 2] = 0.0
+            wts[0] = 0.5
+            wts[1] = 0.5
+        qm = esoq2_kernel(b, r, wts)
+        # 4. fusion factor (eq. 21, fuzzy rules; eq. 11)
+        e1 = xi / (xi + 0.5 * wn)
+        k = fuzzy_gain(e1, e_a, e_b, k_a, k_max)
+        mu = k * dt / (1.0 + k * dt)
+        # 5. blend on the same hemisphere (eq. 9-11) and normalise (eq. 12)
+        s = 1.0
+        if qm[0] * gw_ + qm[1] * gx_ + qm[2] * gy_ + qm[3] * gz_ < 0.0:
+            s = -1.0
+        w, x, y, z = qnormalize(
+            (1.0 - mu) * gw_ + mu * s * qm[0],
+            (1.0 - mu) * gx_ + mu * s * qm[1],
+            (1.0 - mu) * gy_ + mu * s * qm[2],
+            (1.0 - mu) * gz_ + mu * s * qm[3],
+        )
+        out[i, 0] = w
+        out[i, 1] = x
+        out[i, 2] = y
+        out[i, 3] = z
+    return out
+
+
+def ftecf_filter(
+    gyr: FloatArray,
+    acc: FloatArray,
+    mag: FloatArray | None,
+    *,
+    rate_hz: float,
+    initial: InitialState,
+    params: FtecfParams | None = None,
+) -> FloatArray:
+    """Run the FTECF over a recording (inputs are not validated).
+
+    Args:
+        gyr: (N, 3) angular velocity, sensor frame, rad/s.
+        acc: (N, 3) specific force, sensor frame, m/s².
+        mag: (N, 3) magnetic field, sensor frame, any unit, or ``None`` (6-axis).
+        rate_hz: Sampling rate, Hz.
+        initial: Orientation before the first sample (sensor -> ENU), gyro
+            bias, gravity norm and magnetic reference
+            (:func:`~lowerlimb.orientation.initialisation.initialise`).
+        params: :class:`FtecfParams` (defaults when ``None``).
+
+    Returns:
+        (N, 4) unit quaternions ``w, x, y, z``, sensor -> ENU.
+    """
+    p = params or FtecfParams()
+    mag_norm = initial.mag_norm if np.isfinite(initial.mag_norm) else 0.0
+    mag_dip = initial.mag_dip_rad if np.isfinite(initial.mag_dip_rad) else 0.0
+    return _ftecf_loop(
+        np.ascontiguousarray(np.asarray(gyr, dtype=np.float64) - initial.gyr_bias_rad_s),
+        np.ascontiguousarray(acc, dtype=np.float64),
+        np.zeros((0, 3)) if mag is None else np.ascontiguousarray(mag, dtype=np.float64),
+        mag is not None,
+        1.0 / rate_hz,
+        np.asarray(initial.quat_wxyz, dtype=np.float64),
+        initial.acc_norm_mps2,
+        mag_norm,
+        mag_dip,
+        p.xi,
+        p.e1_a,
+        p.e1_b,
+        p.gain_a_per_s,
+        p.gain_max_per_s,
+        p.acc_tol_mps2,
+        p.gyr_tol_rad_s,
+        p.mag_weight,
+        p.mag_norm_tol,
+        p.mag_dip_tol_rad,
+    )

@@ -1,0 +1,106 @@
+"""``lowerlimb calibrate`` end to end on simulated trials, against the simulator's truth."""
+
+import json
+
+import numpy as np
+import pytest
+from simcache import cached_simulation
+
+from lowerlimb.cli import main
+from lowerlimb.conventions import ANGLE_COLUMNS, POSITION_COLUMNS
+from lowerlimb.demo import compare_with_truth
+from lowerlimb.leg_model import LegModel
+from lowerlimb.pipeline import load_calibrated
+from lowerlimb.simulation import ImuNoise
+
+
+@pytest.fixture(scope="module")
+def calibrated(tmp_path_factory):
+    sim = cached_simulation("walk", 40.0, 21, noise=ImuNoise(), side="right")
+    d = tmp_path_factory.mktemp("cal")
+    trial = d / "trial.csv"
+    sim.trial.to_csv(trial)
+    out = d / "out"
+    assert main(["calibrate", str(trial), "--out", str(out), "--side", "right", "--no-mag"]) == 0
+    return sim, out
+
+
+def test_every_output_is_written(calibrated):
+    _, out = calibrated
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        ["calibration.json", "angles.csv", "positions.csv", "calibrated.urdf", "report.html", "s2j.json"]
+    )
+    cal = json.loads((out / "calibration.json").read_text())
+    assert cal["format"] == "lowerlimb-calibration/1" and cal["side"] == "right" and cal["method"] == "casadi"
+    assert cal["runtime_s"] > 0
+    for joint, kind in (("hip", "spherical"), ("knee", "hinge"), ("ankle", "spherical")):
+        j = cal["joints"][joint]
+        assert j["type"] == kind
+        assert len(j["center_in_parent_sensor"]) == 3 and len(j["center_in_child_sensor"]) == 3
+        assert np.isfinite(j["rms_residual"])
+    assert np.isclose(np.linalg.norm(cal["joints"]["knee"]["axis_in_parent_sensor"]), 1.0)
+    assert (out / "angles.csv").read_text().splitlines()[0] == ",".join(ANGLE_COLUMNS)
+    assert (out / "positions.csv").read_text().splitlines()[0] == ",".join(POSITION_COLUMNS)
+    LegModel.from_urdf(out / "calibrated.urdf")
+    model, s2j = load_calibrated(out)
+    assert s2j.method == "M1" and "s2j.json" in (out / "calibrated.urdf").read_text()
+    hip = model.joint_center_in_sensor("hip", "pelvis")
+    assert np.allclose(hip, cal["joints"]["hip"]["center_in_parent_sensor"], atol=1e-9)
+
+
+def test_calibration_angles_and_positions_match_the_truth(calibrated):
+    sim, out = calibrated
+    cal = json.loads((out / "calibration.json").read_text())
+    err = compare_with_truth(cal, sim.truth)
+    assert err["knee"]["axis_deg"] < 1.0
+    assert err["hip"]["child_mm"] < 10 and err["ankle"]["child_mm"] < 10
+    assert err["hip"]["parent_mm"] < 20 and err["ankle"]["parent_mm"] < 20
+    angles = np.loadtxt(out / "angles.csv", delimiter=",", skiprows=1)
+    rmse = np.sqrt(np.mean((np.deg2rad(angles[:, 1:]) - sim.angles_rad) ** 2, axis=0))
+    rmse_deg = np.rad2deg(rmse)
+    assert rmse_deg[[0, 3, 6]].max() < 2.0, rmse_deg
+    assert rmse_deg.max() < 3.0, rmse_deg
+    pos = np.loadtxt(out / "positions.csv", delimiter=",", skiprows=1)[:, 1:]
+    assert 1e3 * np.sqrt(np.mean(np.sum((pos[:, :3] - sim.positions_m[:, :3]) ** 2, axis=1))) < 20.0
+
+
+def test_no_standing_start_warns_once_and_calibrates(tmp_path, capsys):
+    sim = cached_simulation("walk", 40.0, 21, noise=ImuNoise(), side="right")
+    t = sim.trial
+    cut = 300
+    from lowerlimb.trial import ImuTrial
+
+    moving = ImuTrial(
+        t.time_s[cut:] - t.time_s[cut],
+        {k: v[cut:] for k, v in t.acc.items()},
+        {k: v[cut:] for k, v in t.gyr.items()},
+        None,
+        "right",
+    )
+    moving.to_csv(tmp_path / "m.csv")
+    assert main(["calibrate", str(tmp_path / "m.csv"), "--out", str(tmp_path / "o"), "--side", "right"]) == 0
+    err = capsys.readouterr().err
+    assert err.count("first second is taken as the angle reference") == 1
+    assert (tmp_path / "o" / "angles.csv").exists()
+
+
+def test_bad_input_leaves_no_directory(tmp_path, capsys):
+    sim = cached_simulation("walk", 4.0, 3)
+    header = sim.trial.header()
+    data = sim.trial.to_array()
+    data[5, 7] = np.nan
+    np.savetxt(tmp_path / "bad.csv", data, delimiter=",", header=",".join(header), comments="")
+    assert main(["calibrate", str(tmp_path / "bad.csv"), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "NaN" in err and err.count("\n") == 1
+    assert not (tmp_path / "o").exists()
+    assert [p.name for p in tmp_path.iterdir()] == ["bad.csv"]
+
+
+def test_existing_output_directory_is_refused(tmp_path, capsys):
+    (tmp_path / "o").mkdir()
+    (tmp_path / "o" / "keep.txt").write_text("x")
+    sim = cached_simulation("walk", 4.0, 3)
+    sim.trial.to_csv(tmp_path / "t.csv")
+    assert main(["calibrate", str(tmp_path / "t.csv"), "--out", str(tmp_path / "o")]) == 2
+    assert "not empty" in capsys.readouterr().err

@@ -1,0 +1,45 @@
+from __future__ import annotations
+
+import base64
+import re
+
+import numpy as np
+import pytest
+import umsgpack
+
+from lowerlimb.errors import ShapeError
+from lowerlimb.scene import CommandRecorder, draw_leg, resample_angles, standalone_html
+
+
+def test_resample_angles_interpolates_on_a_regular_grid():
+    t = 2.0 + np.linspace(0.0, 3.0, 301)
+    a = np.column_stack([np.sin(t + k) for k in range(9)])
+    frame_t, frames = resample_angles(t, a, 20.0)
+    assert frame_t.shape == (61,) and frames.shape == (61, 9)
+    assert np.allclose(np.diff(frame_t), 0.05)
+    assert np.allclose(frames, np.column_stack([np.sin(frame_t + 2.0 + k) for k in range(9)]), atol=1e-4)
+    capped_t, capped = resample_angles(t, a, 20.0, max_frames=10)
+    assert capped.shape == (10, 9) and capped_t[-1] == pytest.approx(3.0)
+    one_t, one = resample_angles(t[:1], a[:1], 20.0)
+    assert one_t.tolist() == [0.0] and np.array_equal(one, a[:1])
+
+
+@pytest.mark.parametrize("shape", [(10, 8), (9, 9), (0, 9)])
+def test_resample_angles_checks_shapes(shape):
+    n = 10 if shape[0] else 0
+    with pytest.raises(ShapeError, match=r"expected time \(N,\) and angles \(N, 9\)"):
+        resample_angles(np.arange(n, dtype=float), np.zeros(shape), 30.0)
+
+
+def test_standalone_html_replays_every_command_in_order(walk_clean):
+    rec = CommandRecorder()
+    scene = draw_leg(
+        rec.visualizer(), walk_clean.model, walk_clean.trial.time_s[:50], walk_clean.angles_rad[:50]
+    )
+    page = standalone_html(rec.messages, title="a <leg>")
+    assert "<title>a &lt;leg&gt;</title>" in page
+    blobs = re.findall(r'"([A-Za-z0-9+/=]{8,})"', page.split("var commands = [", 1)[1])
+    assert [base64.b64decode(b) for b in blobs] == rec.messages
+    types = [umsgpack.unpackb(m)["type"] for m in rec.messages]
+    assert types[0] == "delete" and types[-1] == "set_animation"
+    assert len(scene.paths) == 4 + 4 + 3 + 1  # segments, IMUs, joint centres, knee axis
