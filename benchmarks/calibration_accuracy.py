@@ -2,7 +2,7 @@
 
 For every method of :func:`lowerlimb.calibration.calibrate_leg` (``casadi``,
 ``gn``, ``dwpso``, ``gwo``, ``dwpso+casadi``, ``gwo+casadi``), on simulated
-60 s, 100 Hz trials (``lowerlimb.simulation``) of walking and knee lifts
+60 s, 100 Hz trials (``lowerlimb.simulation``) of walking and squats
 (``--motions``), noise-free and with realistic noise (``ImuNoise()``: gyro
 0.015 rad/s, accelerometer 0.08 m/s², gyro bias 0.01 rad/s), over
 ``--seeds`` seeds (placements, motion variation and noise change with the seed):
@@ -211,7 +211,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=20)
     ap.add_argument("--first-seed", type=int, default=1)
-    ap.add_argument("--motions", default="walk,knee-lift")
+    ap.add_argument("--motions", default="walk,squat")
     ap.add_argument("--noises", default="noise-free,realistic")
     ap.add_argument("--methods", default=",".join(METHODS))
     ap.add_argument("--duration", type=float, default=60.0)

@@ -6,6 +6,7 @@ import argparse
 import time
 import warnings
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -24,9 +25,9 @@ def markdown_table(header: list[str], rows: list[list[str]]) -> str:
     return "\n".join(lines)
 
 
-def joint_errors(calibration: dict[str, object], truth: dict[str, object]) -> dict[str, float]:
+def joint_errors(calibration: dict[str, Any], truth: dict[str, Any]) -> dict[str, float]:
     """Worst centre error per joint (mm) and the knee axis error (deg)."""
-    err = compare_with_truth(calibration, truth)  # type: ignore[arg-type]
+    err = compare_with_truth(calibration, truth)
     out = {joint: max(v for k, v in err[joint].items() if k.endswith("mm")) for joint, _ in COLUMNS}
     out["axis_deg"] = err["knee"]["axis_deg"]
     return out

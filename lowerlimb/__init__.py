@@ -1,18 +1,34 @@
 """lowerlimb: wearable IMU motion capture of the human leg.
 
 Public API (DESIGN.md): :func:`estimate_orientation`, :func:`estimate_hinge_axis`,
-:func:`estimate_joint_center`, plus :class:`ImuTrial`, :class:`LegModel` and
-:func:`simulate`.
+:func:`estimate_joint_center`; the whole pipeline :func:`process_trial`; and
+:class:`ImuTrial`, :class:`LegModel`, :func:`simulate`.
+
+Attributes are imported on first use (PEP 562): ``import lowerlimb`` is
+cheap, and each name pulls in only its own module.
 """
 
 from __future__ import annotations
 
+import importlib
+from typing import TYPE_CHECKING, Any
+
 __version__ = "0.1.0"
 
-from .errors import InputError, LowerLimbError
-from .leg_model import LegModel
-from .simulation import ImuNoise, simulate
-from .trial import ImuTrial
+_EXPORTS = {
+    "calibrate_leg": "calibration",
+    "estimate_hinge_axis": "calibration",
+    "estimate_joint_center": "calibration",
+    "InputError": "errors",
+    "LowerLimbError": "errors",
+    "LegModel": "leg_model",
+    "estimate_orientation": "orientation",
+    "load_calibrated": "pipeline",
+    "process_trial": "pipeline",
+    "ImuNoise": "simulation",
+    "simulate": "simulation",
+    "ImuTrial": "trial",
+}
 
 __all__ = [
     "ImuNoise",
@@ -21,5 +37,32 @@ __all__ = [
     "LegModel",
     "LowerLimbError",
     "__version__",
+    "calibrate_leg",
+    "estimate_hinge_axis",
+    "estimate_joint_center",
+    "estimate_orientation",
+    "load_calibrated",
+    "process_trial",
     "simulate",
 ]
+
+if TYPE_CHECKING:
+    from .calibration import calibrate_leg, estimate_hinge_axis, estimate_joint_center
+    from .errors import InputError, LowerLimbError
+    from .leg_model import LegModel
+    from .orientation import estimate_orientation
+    from .pipeline import load_calibrated, process_trial
+    from .simulation import ImuNoise, simulate
+    from .trial import ImuTrial
+
+
+def __getattr__(name: str) -> Any:
+    if name in _EXPORTS:
+        value = getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'lowerlimb' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(list(globals()) + list(_EXPORTS))

@@ -221,17 +221,18 @@ def run_view(args: argparse.Namespace) -> None:
         InputError: when DIR lacks ``calibrated.urdf`` or ``angles.csv``.
     """
     session = serve(args.dir, open_browser=bool(getattr(args, "open", False)))
-    scene = session.animation.scene
-    print(
-        f"lowerlimb: showing {args.dir} ({len(scene.frame_time_s)} frames, "
-        f"{scene.frame_time_s[-1]:.1f} s) at {session.url}"
-    )
-    print("lowerlimb: open that address in a browser; press Ctrl-C to stop", flush=True)
     try:
+        scene = session.animation.scene
+        print(
+            f"lowerlimb: showing {args.dir} ({len(scene.frame_time_s)} frames, "
+            f"{scene.frame_time_s[-1]:.1f} s) at {session.url}",
+            flush=True,
+        )
+        print("lowerlimb: open that address in a browser; press Ctrl-C to stop", flush=True)
         while session.server is None or session.server.poll() is None:
             time.sleep(0.5)
     except KeyboardInterrupt:
-        print("lowerlimb: stopped")
+        print("lowerlimb: stopped", flush=True)
     finally:
         session.close()
 

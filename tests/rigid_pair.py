@@ -26,8 +26,8 @@ class RigidPair:
     angacc_child: np.ndarray
     center_parent: np.ndarray
     center_child: np.ndarray
-    axis_parent: np.ndarray | None
-    axis_child: np.ndarray | None
+    axis_parent: np.ndarray  # hinge axes (meaningful for kind="hinge" only)
+    axis_child: np.ndarray
     R_parent_child: np.ndarray  # (N, 3, 3)
 
 
@@ -142,7 +142,7 @@ def rigid_pair(
         *out["child"],
         cp,
         cc,
-        jp if kind == "hinge" else None,
-        jc if kind == "hinge" else None,
+        jp,
+        jc,
         R_pc,
     )

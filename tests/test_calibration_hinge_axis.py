@@ -9,8 +9,14 @@ from lowerlimb.errors import InputError
 
 def _noisy(seed, **kw):
     return rigid_pair(
-        "hinge", seed=seed, duration_s=30.0, still_s=1.5,
-        gyro_noise=0.015, acc_noise=0.08, gyro_bias=0.01, **kw,
+        "hinge",
+        seed=seed,
+        duration_s=30.0,
+        still_s=1.5,
+        gyro_noise=0.015,
+        acc_noise=0.08,
+        gyro_bias=0.01,
+        **kw,
     )
 
 
@@ -39,8 +45,13 @@ def test_recovers_axes_with_noise_and_consistent_signs(seed):
 def test_overall_sign_follows_the_rotation_sense():
     # the same motion described with the axes reversed: q >= 0 about -j, the rule flips
     p = rigid_pair(
-        "hinge", seed=4, duration_s=20.0, still_s=1.0, one_sided=True,
-        axis_parent=(-0.2, -0.1, -0.97), axis_child=(0.1, -0.3, -0.95),
+        "hinge",
+        seed=4,
+        duration_s=20.0,
+        still_s=1.0,
+        one_sided=True,
+        axis_parent=(-0.2, -0.1, -0.97),
+        axis_child=(0.1, -0.3, -0.95),
     )
     jp, jc = estimate_hinge_axis(p.gyr_parent, p.gyr_child, rate_hz=p.rate_hz)
     assert angle_between_deg(jp, p.axis_parent) < 0.1
@@ -68,8 +79,9 @@ def test_swarm_methods(method):
 def test_no_motion_warns_and_stays_finite():
     rng = np.random.default_rng(1)
     w = [0.01 + 0.015 * rng.normal(size=(800, 3)) for _ in range(2)]
-    with pytest.warns(ExcitationWarning, match="hardly rotates"):
+    with pytest.warns(ExcitationWarning) as rec:
         res = calibrate_hinge_axis(w[0], w[1], rate_hz=100.0, joint="knee")
+    assert any("hardly rotates" in str(r.message) for r in rec)
     assert np.all(np.isfinite(res.axis_in_parent_sensor))
     assert np.isclose(np.linalg.norm(res.axis_in_child_sensor), 1.0)
     assert all(m.startswith("knee:") for m in res.warnings)
@@ -83,3 +95,37 @@ def test_input_errors():
         estimate_hinge_axis(p.gyr_parent, p.gyr_child, rate_hz=100.0, method="pso")
     with pytest.raises(InputError, match="rate_hz"):
         estimate_hinge_axis(p.gyr_parent, p.gyr_child, rate_hz=-1)
+
+
+def test_axis_result_serialises_strictly_and_round_trips():
+    import json
+
+    from lowerlimb.calibration import HingeAxisCalibration
+
+    p = _noisy(7, one_sided=True)
+    res = calibrate_hinge_axis(p.gyr_parent, p.gyr_child, rate_hz=p.rate_hz)
+    d = json.loads(json.dumps(res.to_dict(), allow_nan=False))
+    assert d["acc_sign_correlation"] is None  # not checked without accelerometers
+    back = HingeAxisCalibration.from_dict(d)
+    assert np.allclose(back.axis_in_parent_sensor, res.axis_in_parent_sensor)
+    assert back.rms_residual == pytest.approx(res.rms_residual)
+    assert back.to_dict() == d
+
+
+def test_hinge_joint_centre_lies_on_the_axis():
+    from lowerlimb.calibration import calibrate_hinge_joint
+    from lowerlimb.calibration.geometry import distance_to_line
+
+    p = _noisy(8, one_sided=True)
+    h = calibrate_hinge_joint(
+        p.acc_parent, p.gyr_parent, p.acc_child, p.gyr_child, rate_hz=p.rate_hz, joint="knee"
+    )
+    assert 1000 * distance_to_line(h.center_in_parent_sensor, p.center_parent, p.axis_parent) < 5
+    assert 1000 * distance_to_line(h.center_in_child_sensor, p.center_child, p.axis_child) < 5
+    # eq. 16: the point of the axis nearest the two sensors
+    jp, jc = h.axis_in_parent_sensor, h.axis_in_child_sensor
+    assert abs(jp @ h.center_in_parent_sensor + jc @ h.center_in_child_sensor) < 1e-9
+    assert h.axis.acc_sign_correlation > 0.9
+    assert h.warnings == []
+    d = h.to_dict()
+    assert d["type"] == "hinge" and d["rms_residual_axis"] == pytest.approx(h.axis.rms_residual)

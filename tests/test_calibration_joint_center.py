@@ -21,8 +21,13 @@ def clean():
 @pytest.fixture(scope="module")
 def noisy():
     return rigid_pair(
-        "spherical", seed=6, duration_s=30.0, still_s=1.5,
-        gyro_noise=0.015, acc_noise=0.08, gyro_bias=0.01,
+        "spherical",
+        seed=6,
+        duration_s=30.0,
+        still_s=1.5,
+        gyro_noise=0.015,
+        acc_noise=0.08,
+        gyro_bias=0.01,
     )
 
 
@@ -31,9 +36,7 @@ def _args(p):
 
 
 def _err_mm(est, p):
-    return 1000 * np.linalg.norm(est[0] - p.center_parent), 1000 * np.linalg.norm(
-        est[1] - p.center_child
-    )
+    return 1000 * np.linalg.norm(est[0] - p.center_parent), 1000 * np.linalg.norm(est[1] - p.center_child)
 
 
 @pytest.mark.parametrize("method", ["casadi", "gn"])
@@ -51,6 +54,7 @@ def test_recovers_centres_with_realistic_noise_and_bias(noisy):
     assert res.warnings == []
     assert 0 < res.rms_residual < 1.0
     assert np.all(res.center_std_in_parent_sensor < 0.005)
+    assert res.excitation is not None
     assert np.isfinite(res.excitation.condition_number)
 
 
@@ -73,8 +77,9 @@ def test_still_segments_warn_and_stay_finite():
     g = np.array([0.3, -9.6, 1.8])
     acc = [g + 0.08 * rng.normal(size=(n, 3)) for _ in range(2)]
     gyr = [0.01 + 0.015 * rng.normal(size=(n, 3)) for _ in range(2)]
-    with pytest.warns(ExcitationWarning, match="hardly rotates") as rec:
+    with pytest.warns(ExcitationWarning) as rec:
         res = calibrate_spherical_joint(acc[0], gyr[0], acc[1], gyr[1], rate_hz=100.0)
+    assert sum("hardly rotates" in str(r.message) for r in rec) == 2
     assert np.all(np.isfinite(res.center_in_parent_sensor))
     assert np.all(np.isfinite(res.center_in_child_sensor))
     assert len(res.warnings) == len(rec) >= 2
@@ -84,6 +89,7 @@ def test_pure_hinge_at_a_spherical_joint_names_the_axis():
     p = rigid_pair("hinge", seed=3, duration_s=30.0, gyro_noise=0.015, acc_noise=0.08)
     with pytest.warns(ExcitationWarning, match="poorly determined"):
         res = calibrate_spherical_joint(*_args(p), rate_hz=p.rate_hz, joint="hip")
+    assert res.excitation is not None
     v = res.excitation.weakest_direction
     # the unobservable direction is "along the axis" in both frames
     assert abs(v[:3] @ p.axis_parent) / np.linalg.norm(v[:3]) > 0.99

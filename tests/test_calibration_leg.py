@@ -19,8 +19,12 @@ from lowerlimb.trial import ImuTrial
 
 REQUIRED = {
     "spherical": {
-        "type", "parent_sensor", "child_sensor", "center_in_parent_sensor",
-        "center_in_child_sensor", "rms_residual",
+        "type",
+        "parent_sensor",
+        "child_sensor",
+        "center_in_parent_sensor",
+        "center_in_child_sensor",
+        "rms_residual",
     },
 }
 REQUIRED["hinge"] = REQUIRED["spherical"] | {"axis_in_parent_sensor", "axis_in_child_sensor"}
@@ -29,14 +33,14 @@ REQUIRED["hinge"] = REQUIRED["spherical"] | {"axis_in_parent_sensor", "axis_in_c
 def errors(cal: LegCalibration, truth: dict) -> dict[str, float]:
     """Errors in mm and degrees against the simulator's truth."""
     t = truth["joints"]
-    out = {}
+    out: dict[str, float] = {}
     for j in ("hip", "ankle"):
         est = cal.joints[j]
-        out[f"{j}_parent_mm"] = 1000 * np.linalg.norm(
-            est.center_in_parent_sensor - t[j]["center_in_parent_sensor"]
+        out[f"{j}_parent_mm"] = 1000 * float(
+            np.linalg.norm(est.center_in_parent_sensor - t[j]["center_in_parent_sensor"])
         )
-        out[f"{j}_child_mm"] = 1000 * np.linalg.norm(
-            est.center_in_child_sensor - t[j]["center_in_child_sensor"]
+        out[f"{j}_child_mm"] = 1000 * float(
+            np.linalg.norm(est.center_in_child_sensor - t[j]["center_in_child_sensor"])
         )
     k, tk = cal.knee, t["knee"]
     out["knee_axis_parent_deg"] = angle_between_deg(k.axis_in_parent_sensor, tk["axis_in_parent_sensor"])
@@ -69,9 +73,7 @@ def test_walking_recovers_the_leg(walk_cal, walk_noisy):
     assert walk_cal.warnings == []
     assert 0 < walk_cal.runtime_s < 10
     assert walk_cal.still_s >= 1.0
-    bias_err = [
-        np.linalg.norm(walk_cal.gyro_bias[s] - walk_noisy.truth["gyr_bias"][s]) for s in SENSORS
-    ]
+    bias_err = [np.linalg.norm(walk_cal.gyro_bias[s] - walk_noisy.truth["gyr_bias"][s]) for s in SENSORS]
     assert max(bias_err) < 0.006
 
 
@@ -169,8 +171,9 @@ def test_a_leg_that_does_not_move_warns_without_nan():
 
 def test_trial_errors(walk_clean):
     tr = walk_clean.trial
-    broken = ImuTrial(time_s=tr.time_s, acc={k: v for k, v in tr.acc.items() if k != "foot"},
-                      gyr=tr.gyr, side="left")
+    broken = ImuTrial(
+        time_s=tr.time_s, acc={k: v for k, v in tr.acc.items() if k != "foot"}, gyr=tr.gyr, side="left"
+    )
     with pytest.raises(InputError, match="no foot sensor"):
         calibrate_leg(broken)
     with pytest.raises(InputError, match="unknown calibration method"):

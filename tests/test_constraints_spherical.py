@@ -145,8 +145,12 @@ def test_shape_errors(pair):
         spherical_residual_population(np.zeros(6), d)
     with pytest.raises(ShapeError, match="samples"):
         SphericalData(
-            pair.acc_parent, pair.gyr_parent[:-1], pair.angacc_parent,
-            pair.acc_child, pair.gyr_child, pair.angacc_child,
+            pair.acc_parent,
+            pair.gyr_parent[:-1],
+            pair.angacc_parent,
+            pair.acc_child,
+            pair.gyr_child,
+            pair.angacc_child,
         )
     with pytest.raises(ShapeError, match=r"R_parent_child"):
         spherical_residual_3d(np.zeros(6), d, np.eye(3))

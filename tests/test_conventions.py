@@ -79,9 +79,7 @@ def test_joint_angle_round_trip(side, joint):
     assert np.allclose(cv.joint_angles_from_matrix(R, joint, side), a)
 
 
-def _distal_point(
-    model: LegModel, angles: np.ndarray, frame: str, point_in_frame: np.ndarray
-) -> np.ndarray:
+def _distal_point(model: LegModel, angles: np.ndarray, frame: str, point_in_frame: np.ndarray) -> np.ndarray:
     pose = model.frame_poses(model.configuration(angles), [frame])[frame]
     return pose.rotation @ point_in_frame + pose.translation
 

@@ -83,3 +83,15 @@ def test_accelerometer_in_g(still):
     gyr, acc, _ = still
     with pytest.raises(UnitError, match=r"look like g.*m/s² \(multiply by 9.81\)"):
         estimate_orientation(gyr, acc / 9.81, rate_hz=100.0)
+
+
+def test_start_without_gravity_or_heading(still):
+    gyr, acc, mag = still
+    acc = acc.copy()
+    acc[:10] = 0.0  # a logger that starts with zeros
+    with pytest.raises(InputError, match="cut the leading zero samples"):
+        estimate_orientation(gyr, acc, rate_hz=100.0)
+    with pytest.raises(InputError, match="mag=None for a 6-axis estimate"):
+        estimate_orientation(gyr, still[1], np.tile([0.0, 0.0, -45.0], (N, 1)), rate_hz=100.0)
+    with pytest.raises(InputError, match="magnetometer reads zero"):
+        estimate_orientation(gyr, still[1], np.zeros((N, 3)), rate_hz=100.0)

@@ -102,7 +102,7 @@ def solve_global(problem: LsqProblem, method: str, options: CalibrationOptions) 
                 swarm="gwo" if swarm == "gwo" else "dwpso",
                 seed=options.seed,
                 population=options.n_particles if swarm == "dwpso" else options.n_wolves,
-                max_iter=options.swarm_iter,
+                max_iter=options.hybrid_swarm_iter,
             )
         if swarm == "dwpso":
             return solvers.dwpso(

@@ -13,10 +13,12 @@ Solving (choices the paper leaves open):
   solve starts at (φ, θ) = (0, 0), on the equator, far from the poles where
   eq. 5 is singular (``‖ω × Q j'‖ = ‖Qᵀω × j'‖``: the data are rotated);
 - ``casadi``/``gn``: ``hinge_starts`` starting pairs along the sensor axes
-  are solved on a subsample (≤ ``swarm_samples`` samples), the best is
-  polished on all samples in a basis centred on it;
+  are solved on a subsample (≤ 1000 samples), the best is polished on all
+  samples in a basis centred on it;
 - swarms: ``φ ∈ [−π/2, π/2]``, ``θ ∈ [−2π, 2π]`` per axis (two turns: the optimum is
-  never only on the box edge), identity basis.
+  never only on the box edge), identity basis; ``…+casadi`` keeps the better of
+  the refined swarm result and the multi-start (on squats the swarm sometimes
+  hands a minimum 90° away to the refinement).
 
 Sign resolution (eq. 4/6 cannot see the signs, NOTES.md):
 
@@ -131,6 +133,22 @@ def _local(
     jp = Qp @ axis_from_angles(res.x[0], res.x[1])
     jc = Qc @ axis_from_angles(res.x[2], res.x[3])
     return jp, jc, float(res.cost), int(res.iterations), bool(res.converged), res.method
+
+
+def _multistart(
+    wp: FloatArray, wc: FloatArray, local: str, options: CalibrationOptions
+) -> tuple[FloatArray, FloatArray, float, int, bool, str]:
+    """``hinge_starts`` local solves on a subsample, the best polished on all samples."""
+    step = subsample_step(wp.shape[0], _START_SUBSAMPLE)
+    iterations = 0
+    best_cost, best_p, best_c = np.inf, _START_AXES[0], _START_AXES[0]
+    for d in _START_AXES[: options.hinge_starts]:
+        jp, jc, cost, it, _, _ = _local(wp[::step], wc[::step], d, d, local, options)
+        iterations += it
+        if cost < best_cost:
+            best_cost, best_p, best_c = cost, jp, jc
+    jp, jc, cost, it, converged, solver = _local(wp, wc, best_p, best_c, local, options)
+    return jp, jc, cost, iterations + it, converged, solver
 
 
 def hinge_angle(
@@ -277,21 +295,20 @@ def fit_hinge_axis(
     iterations = 0
     messages: list[str] = []
     if method in ("casadi", "gn"):
-        step = subsample_step(wp.shape[0], _START_SUBSAMPLE)
-        best: tuple[float, FloatArray, FloatArray] | None = None
-        for d in _START_AXES[: options.hinge_starts]:
-            jp, jc, cost, it, _, _ = _local(wp[::step], wc[::step], d, d, method, options)
-            iterations += it
-            if best is None or cost < best[0]:
-                best = (cost, jp, jc)
-        assert best is not None
-        jp, jc, _, it, converged, solver = _local(wp, wc, best[1], best[2], method, options)
-        iterations += it
+        jp, jc, _, iterations, converged, solver = _multistart(wp, wc, method, options)
     else:
         res = solve_global(_problem(wp, wc, options), method, options)
         jp = axis_from_angles(res.x[0], res.x[1])
         jc = axis_from_angles(res.x[2], res.x[3])
         iterations, converged, solver = int(res.iterations), bool(res.converged), res.method
+        if method.endswith("+casadi"):
+            # safeguard: the swarm may hand a wrong basin to the refinement (squats:
+            # a minimum 90° away); keep the better of it and the default starts
+            ms = _multistart(wp, wc, "casadi", options)
+            iterations += ms[3]
+            if ms[2] < res.cost:
+                jp, jc, converged = ms[0], ms[1], ms[4]
+                solver = f"{solver} (kept the multi-start {ms[5]})"
     jp, jc = jp / np.linalg.norm(jp), jc / np.linalg.norm(jc)
 
     # 1. relative sign: gyro coherence, settled by the accelerometers when available

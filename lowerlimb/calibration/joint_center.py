@@ -122,7 +122,8 @@ def fit_spherical(
         child_sensor: child sensor name used in messages.
         gauge_axes: ``(j_P, j_C)`` for a hinge: the solution is pinned to the
             point of the axis nearest the sensors (eq. 16), see
-            :func:`~lowerlimb.constraints.spherical.spherical_gauge_sample_function`.
+            :func:`~lowerlimb.constraints.spherical.spherical_axis_gauge_sample_function`
+            (five parameters; the covariance is mapped back to the six coordinates).
 
     Returns:
         The joint result; warnings are issued and recorded.

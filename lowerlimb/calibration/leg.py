@@ -8,7 +8,7 @@
 3. knee: hinge axis thigh–shank (eq. 4–6, 12) with the signs resolved so that
    both axes point to the subject's right (knee flexion positive, see
    :mod:`~lowerlimb.calibration.hinge_axis`), then a centre on the axis: the
-   spherical residual with a gauge row that pins the point of the axis
+   spherical residual restricted (gauge of eq. 16) to the point of the axis
    nearest the two sensors (eq. 16); the relative axis sign is cross-checked
    with the joint-centre accelerations;
 4. ankle: spherical joint shank–foot.

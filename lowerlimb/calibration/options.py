@@ -34,7 +34,9 @@ class CalibrationOptions:
         prefilter: low-pass each sensor's gyro and accelerometer at a cut-off
             adapted to its motion (:mod:`lowerlimb.constraints.prefilter`).
         cutoff_hz: a fixed cut-off for every sensor instead of the adaptive one, Hz.
-        cutoff_factor: adaptive cut-off over the motion bandwidth.
+        cutoff_factor: adaptive cut-off over the motion bandwidth (1.5: best worst case
+            on simulated walking among 1.25–3; see benchmarks/calibration_accuracy.py
+            ``--option cutoff_factor=…``).
         min_cutoff_hz: lowest adaptive cut-off, Hz.
         angacc_window_s: Savitzky–Golay window of the gyro derivative, s.
         angacc_polyorder: Savitzky–Golay polynomial order.
@@ -52,7 +54,10 @@ class CalibrationOptions:
             many evenly spaced samples.
         n_particles: DWPSO population.
         n_wolves: GWO population.
-        swarm_iter: swarm iterations.
+        swarm_iter: iterations of the pure swarms (``dwpso``, ``gwo``); 300 because
+            150 often stops short of the ankle's narrow valley on walking.
+        hybrid_swarm_iter: iterations of the swarm stage of ``dwpso+casadi`` and
+            ``gwo+casadi`` (it only needs the right basin).
         seed: seed of the swarms.
         noise_floor_mps2: lower bound of the residual noise assumed for the
             spherical covariance, m/s² (noise-free data would otherwise report
@@ -67,7 +72,7 @@ class CalibrationOptions:
 
     prefilter: bool = True
     cutoff_hz: float | None = None
-    cutoff_factor: float = 2.0
+    cutoff_factor: float = 1.5
     min_cutoff_hz: float = 2.5
     angacc_window_s: float = DEFAULT_WINDOW_S
     angacc_polyorder: int = DEFAULT_POLYORDER
@@ -80,7 +85,8 @@ class CalibrationOptions:
     swarm_samples: int = 1500
     n_particles: int = 40
     n_wolves: int = 30
-    swarm_iter: int = 150
+    swarm_iter: int = 300
+    hybrid_swarm_iter: int = 60
     seed: int = 0
     noise_floor_mps2: float = 0.1
     noise_floor_rps: float = 0.015
@@ -93,6 +99,14 @@ class CalibrationOptions:
             raise InputError(f"angacc_window_s must be > 0 s, got {self.angacc_window_s}")
         if self.center_bound_m <= 0:
             raise InputError(f"center_bound_m must be > 0 m, got {self.center_bound_m}")
-        for name in ("max_iter", "hinge_starts", "swarm_samples", "n_particles", "n_wolves"):
+        for name in (
+            "max_iter",
+            "hinge_starts",
+            "swarm_samples",
+            "n_particles",
+            "n_wolves",
+            "swarm_iter",
+            "hybrid_swarm_iter",
+        ):
             if getattr(self, name) < 1:
                 raise InputError(f"{name} must be >= 1, got {getattr(self, name)}")

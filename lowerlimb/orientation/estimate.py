@@ -101,6 +101,10 @@ def _check_inputs(
     return g, a, m, rate
 
 
+#: Accepted meanings of a gyro sample (see :func:`estimate_orientation`).
+GYRO_TIMINGS = ("instantaneous", "interval_mean")
+
+
 def estimate_orientation(
     gyr: ArrayLike,
     acc: ArrayLike,
@@ -110,6 +114,7 @@ def estimate_orientation(
     method: str = "mahony",
     params: OrientationParams | None = None,
     remove_bias: bool = True,
+    gyro_timing: str = "instantaneous",
 ) -> FloatArray:
     """Orientation of one IMU over a recording, from gyro + accelerometer (+ magnetometer).
 
@@ -132,6 +137,12 @@ def estimate_orientation(
             :class:`QuestKfParams`); ``None`` uses the benchmarked defaults.
         remove_bias: Estimate the gyro bias as the mean rate of the still start
             and subtract it (nothing is subtracted when the start moves).
+        gyro_timing: ``"instantaneous"`` (DESIGN.md: sample k is the angular
+            velocity at t_k) or ``"interval_mean"`` (sample k is the mean rate
+            over (t_{k-1}, t_k], as many IMUs with internal integration
+            deliver). The filters rotate by the mean rate of each interval, so
+            instantaneous samples are first averaged pairwise (trapezoid
+            rule); without it the estimate leads the motion by half a sample.
 
     Returns:
         (N, 4) unit quaternions ``w, x, y, z``, sensor -> earth (ENU), sign
@@ -141,10 +152,16 @@ def estimate_orientation(
         ShapeError: an array is not (N, 3), is empty, or lengths differ.
         NonFiniteValueError: a NaN or infinite sample (names signal, axis, row).
         UnitError: the gyro looks like deg/s or the accelerometer like g.
-        InputError: unknown ``method``, ``rate_hz <= 0``, or ``params`` of the
-            wrong class.
+        InputError: unknown ``method``, ``rate_hz <= 0``, ``params`` of the
+            wrong class, or a start without gravity direction (zero
+            accelerometer) or heading (field parallel to gravity).
     """
     g, a, m, rate = _check_inputs(gyr, acc, mag, rate_hz, method, params)
+    if gyro_timing not in GYRO_TIMINGS:
+        raise InputError(f"unknown gyro_timing {gyro_timing!r}; use one of {list(GYRO_TIMINGS)}")
+    if gyro_timing == "instantaneous" and g.shape[0] > 1:
+        g = g.copy()
+        g[1:] = 0.5 * (g[1:] + g[:-1])
     initial = initialise(g, a, m, rate, estimate_bias=bool(remove_bias))
     filt = FILTERS[method][0]
     # Every filter moves its estimate by a small rotation per sample and never

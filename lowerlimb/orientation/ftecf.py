@@ -69,13 +69,13 @@ class FtecfParams:
     """
 
     xi: float = 0.0006325
-    e1_a: float = 0.005
-    e1_b: float = 0.05
-    gain_a_per_s: float = 0.1
-    gain_max_per_s: float = 1.0
+    e1_a: float = 0.002
+    e1_b: float = 0.2
+    gain_a_per_s: float = 0.2
+    gain_max_per_s: float = 0.5
     acc_tol_mps2: float = 0.5
-    gyr_tol_rad_s: float = math.radians(30.0)
-    mag_weight: float = 0.1
+    gyr_tol_rad_s: float = 2.0
+    mag_weight: float = 0.3
     mag_norm_tol: float = 0.1
     mag_dip_tol_rad: float = math.radians(10.0)
 

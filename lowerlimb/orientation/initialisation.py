@@ -16,6 +16,7 @@ from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from lowerlimb.conventions import GRAVITY_MPS2, quat_from_matrix
+from lowerlimb.errors import InputError
 
 FloatArray = NDArray[np.float64]
 
@@ -205,18 +206,27 @@ def attitude_from_gravity(acc: FloatArray, mag: FloatArray | None = None) -> Flo
         (4,) unit quaternion ``w, x, y, z`` with ``w >= 0``.
 
     Raises:
-        ValueError: when ``acc`` is zero or ``mag`` is parallel to it.
+        InputError: when ``acc`` or ``mag`` is zero or ``mag`` is within 1° of
+            parallel to ``acc``.
     """
     up = np.asarray(acc, dtype=float)
     n_up = np.linalg.norm(up)
     if n_up == 0.0:
-        raise ValueError("the accelerometer reads zero; cannot find the gravity direction")
+        raise InputError(
+            "the accelerometer reads zero at the start; cannot find the gravity direction "
+            "(cut the leading zero samples)"
+        )
     up = up / n_up
     if mag is not None:
         north = np.asarray(mag, dtype=float)
+        if not np.any(north):
+            raise InputError("the magnetometer reads zero at the start; pass mag=None for a 6-axis estimate")
         north = north - np.dot(north, up) * up
-        if np.linalg.norm(north) < 1e-9 * max(1.0, float(np.linalg.norm(mag))):
-            raise ValueError("the magnetic field is vertical; heading is undefined")
+        if np.linalg.norm(north) < np.sin(np.radians(1.0)) * float(np.linalg.norm(mag)):
+            raise InputError(
+                "the magnetic field is parallel to gravity at the start; heading is undefined "
+                "(check the magnetometer, or pass mag=None for a 6-axis estimate)"
+            )
         north /= np.linalg.norm(north)
         east = np.cross(north, up)
     else:
@@ -257,6 +267,10 @@ def initialise(
         alignment of the mean readings over the rest (without its last
         ``trim_s``), or over the first ``params.attitude_s`` when the start is
         not still; the bias is the mean gyro rate over the same samples.
+
+    Raises:
+        InputError: the accelerometer or magnetometer reads zero over those
+            samples, or the magnetic field is within 1° of parallel to gravity.
     """
     p = params or RestParams()
     rest = detect_initial_rest(gyr, acc, rate_hz, p)

@@ -48,7 +48,7 @@ class MadgwickParams:
             error"); the correction rate of a wrong attitude is at most β.
     """
 
-    beta: float = 0.04
+    beta: float = 0.015
 
 
 @njit(cache=True, inline="always")

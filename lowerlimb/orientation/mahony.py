@@ -88,9 +88,9 @@ class MahonyParams:
     """
 
     kp: float = 0.4
-    ki: float = 0.0
-    kp_mag: float = 0.02
-    acc_lowpass_s: float = 1.0
+    ki: float = 0.003
+    kp_mag: float = 0.05
+    acc_lowpass_s: float = 2.0
     mag_norm_tol: float = 0.1
     mag_dip_tol_rad: float = math.radians(10.0)
     bias_clip_rad_s: float = 0.05

@@ -67,12 +67,12 @@ class QuestKfParams:
 
     tau_s: float = 0.5
     rate_var: float = 100.0
-    quat_process_std: float = 0.001
+    quat_process_std: float = 0.0003
     gyr_std_rad_s: float = 0.01
-    quest_std: float = 0.3
+    quest_std: float = 0.1
     acc_tol_mps2: float = 1.0
-    gyr_tol_rad_s: float = 5.0
-    mag_weight: float = 0.1
+    gyr_tol_rad_s: float = 2.0
+    mag_weight: float = 0.5
     mag_norm_tol: float = 0.1
     mag_dip_tol_rad: float = math.radians(10.0)
 
