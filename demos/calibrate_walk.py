@@ -2,32 +2,29 @@
 
 from __future__ import annotations
 
-import argparse
 import time
 from pathlib import Path
 
 import numpy as np
 
-from lowerlimb.demo import angle_rmse_deg, compare_with_truth, plot_angles
+from lowerlimb.demo import (
+    angle_rmse_deg,
+    compare_with_truth,
+    demo_output,
+    demo_parser,
+    markdown_table,
+    plot_angles,
+)
 from lowerlimb.pipeline import process_trial
 from lowerlimb.simulation import ImuNoise, simulate
 
 
-def markdown_table(header: list[str], rows: list[list[str]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(row) + " |" for row in rows]
-    return "\n".join(lines)
-
-
 def main(argv: list[str] | None = None) -> dict[str, float]:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "output")
-    parser.add_argument("--quick", action="store_true", help="a 20 s walk instead of 60 s")
+    parser = demo_parser(__doc__, "a 20 s walk instead of 60 s", Path(__file__).parent / "output")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--method", default="casadi", help="calibration method (casadi, gn, dwpso, gwo…)")
     args = parser.parse_args(argv)
-    out: Path = args.out / "calibrate_walk"
-    out.mkdir(parents=True, exist_ok=True)
+    out = demo_output(args, "calibrate_walk")
     t0 = time.perf_counter()
 
     duration = 20.0 if args.quick else 60.0

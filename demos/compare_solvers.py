@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 import time
 import warnings
 from pathlib import Path
@@ -11,18 +10,12 @@ from typing import Any
 import numpy as np
 
 from lowerlimb.calibration import calibrate_leg
-from lowerlimb.demo import compare_with_truth
+from lowerlimb.demo import compare_with_truth, demo_output, demo_parser, markdown_table
 from lowerlimb.simulation import ImuNoise, simulate
 
 METHODS = ("gn", "casadi", "dwpso", "gwo", "dwpso+casadi", "gwo+casadi")
 #: Error columns: (joint, label); the joint error is the worse of its parent and child sensor.
 COLUMNS = (("hip", "hip centre mm"), ("knee", "knee centre-to-axis mm"), ("ankle", "ankle centre mm"))
-
-
-def markdown_table(header: list[str], rows: list[list[str]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(row) + " |" for row in rows]
-    return "\n".join(lines)
 
 
 def joint_errors(calibration: dict[str, Any], truth: dict[str, Any]) -> dict[str, float]:
@@ -55,12 +48,11 @@ def plot(path: Path, errors: dict[str, list[dict[str, float]]], times: dict[str,
 
 
 def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "output")
-    parser.add_argument("--quick", action="store_true", help="two 20 s walks instead of three 60 s walks")
+    parser = demo_parser(
+        __doc__, "two 20 s walks instead of three 60 s walks", Path(__file__).parent / "output"
+    )
     args = parser.parse_args(argv)
-    out: Path = args.out / "compare_solvers"
-    out.mkdir(parents=True, exist_ok=True)
+    out = demo_output(args, "compare_solvers")
     t0 = time.perf_counter()
 
     duration, seeds = (20.0, (1, 2)) if args.quick else (60.0, (1, 2, 3))

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 import time
 import warnings
 from pathlib import Path
@@ -12,17 +11,12 @@ import numpy as np
 from lowerlimb.calibrated_leg import chain_positions
 from lowerlimb.calibration import ExcitationWarning
 from lowerlimb.conventions import FloatArray
+from lowerlimb.demo import demo_output, demo_parser, markdown_table
 from lowerlimb.leg_geometry import LegGeometry
 from lowerlimb.pipeline import TrialResult, process_trial
 from lowerlimb.s2j import S2JModel, constant_s2j_from_calibration
 from lowerlimb.simulation import ImuNoise, Simulation, SoftTissue, simulate
 from lowerlimb.simulation.placements import random_placements
-
-
-def markdown_table(header: list[str], rows: list[list[str]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(row) + " |" for row in rows]
-    return "\n".join(lines)
 
 
 def rmse_mm(est: FloatArray, ref: FloatArray) -> float:
@@ -54,13 +48,10 @@ def plot(path: Path, sim: Simulation, start: int, curves: dict[str, FloatArray])
 
 
 def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "output")
-    parser.add_argument("--quick", action="store_true", help="20 s of training squats instead of 60 s")
+    parser = demo_parser(__doc__, "20 s of training squats instead of 60 s", Path(__file__).parent / "output")
     parser.add_argument("--seed", type=int, default=1)
     args = parser.parse_args(argv)
-    out: Path = args.out / "s2j_squat"
-    out.mkdir(parents=True, exist_ok=True)
+    out = demo_output(args, "s2j_squat")
     t0 = time.perf_counter()
 
     duration = 20.0 if args.quick else 60.0

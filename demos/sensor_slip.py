@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 import time
 from pathlib import Path
 
@@ -10,6 +9,7 @@ import numpy as np
 
 from lowerlimb.calibrated_leg import calibrated_geometry, chain_positions
 from lowerlimb.conventions import SENSORS, FloatArray, rot_y, rot_z
+from lowerlimb.demo import demo_output, demo_parser, markdown_table
 from lowerlimb.heading import correct_headings
 from lowerlimb.joint_angles import compute_joint_angles
 from lowerlimb.leg_geometry import LegGeometry
@@ -20,12 +20,6 @@ from lowerlimb.simulation import ImuNoise, Simulation, simulate
 
 #: Angle columns reported (angles.csv index, label).
 REPORTED = ((3, "knee flexion"), (4, "knee add."), (5, "knee rot."), (6, "ankle dorsiflexion"))
-
-
-def markdown_table(header: list[str], rows: list[list[str]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(row) + " |" for row in rows]
-    return "\n".join(lines)
 
 
 def slipped(
@@ -117,9 +111,7 @@ def plot(
 
 
 def main(argv: list[str] | None = None) -> dict[str, list[float]]:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "output")
-    parser.add_argument("--quick", action="store_true", help="20 s walks instead of 60 s")
+    parser = demo_parser(__doc__, "20 s walks instead of 60 s", Path(__file__).parent / "output")
     parser.add_argument("--sensor", choices=("shank", "thigh"), default="shank")
     parser.add_argument("--slide-cm", type=float, default=3.0, help="slip down the segment, cm")
     parser.add_argument(
@@ -130,8 +122,7 @@ def main(argv: list[str] | None = None) -> dict[str, list[float]]:
     )
     parser.add_argument("--seed", type=int, default=4)
     args = parser.parse_args(argv)
-    out: Path = args.out / "sensor_slip"
-    out.mkdir(parents=True, exist_ok=True)
+    out = demo_output(args, "sensor_slip")
     t0 = time.perf_counter()
 
     duration = 20.0 if args.quick else 60.0

@@ -3,14 +3,17 @@
 Same conventions as :mod:`lowerlimb.conventions`: ``w, x, y, z``, Hamilton
 product, a sensor orientation ``q`` maps sensor-frame vectors into the earth
 frame (ENU). Every function takes and returns plain floats (tuples), so the
-compiled loops never allocate.
+compiled loops never allocate; :func:`put_quat` writes one row of a loop's
+(N, 4) output.
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
+from numpy.typing import NDArray
 
 Quat = tuple[float, float, float, float]
 Vec = tuple[float, float, float]
@@ -94,3 +97,12 @@ def cross(ax: float, ay: float, az: float, bx: float, by: float, bz: float) -> V
 def norm3(x: float, y: float, z: float) -> float:
     """Euclidean norm of a 3-vector."""
     return math.sqrt(x * x + y * y + z * z)
+
+
+@njit(cache=True, inline="always")
+def put_quat(out: NDArray[np.float64], i: int, w: float, x: float, y: float, z: float) -> None:
+    """Store ``w, x, y, z`` in row ``i`` of the (N, 4) array ``out``."""
+    out[i, 0] = w
+    out[i, 1] = x
+    out[i, 2] = y
+    out[i, 3] = z

@@ -50,6 +50,19 @@ from lowerlimb.errors import InputError, ShapeError
 FloatArray = NDArray[np.float64]
 
 
+@njit(cache=True, inline="always")
+def turn_reference(B: FloatArray, rot: int) -> None:
+    """``B ← B R_k`` in place: negate the columns other than ``k`` (180° about earth axis ``rot``).
+
+    The turn is its own inverse; ``rot = 0`` leaves ``B`` unchanged.
+    """
+    if rot > 0:
+        for c in range(3):
+            if c != rot - 1:
+                for j in range(3):
+                    B[j, c] = -B[j, c]
+
+
 @njit(cache=True)
 def attitude_profile(
     b: FloatArray, r: FloatArray, weights: FloatArray, largest_trace: bool
@@ -73,12 +86,28 @@ def attitude_profile(
     for k in range(1, 4):
         if sign * traces[k] < sign * traces[rot]:
             rot = k
-    if rot > 0:  # B R_k: negate the two columns other than k
-        for c in range(3):
-            if c != rot - 1:
-                for j in range(3):
-                    B[j, c] = -B[j, c]
+    turn_reference(B, rot)
     return B, rot
+
+
+@njit(cache=True, inline="always")
+def _k_terms(B: FloatArray) -> tuple[float, float, float, float, float, float, float, float, float, float]:
+    """Entries of ``K(B)``: ``σ = tr B``, ``z`` (3) and the upper triangle of ``S = B + Bᵀ``.
+
+    Returned as ``σ, z0, z1, z2, S00, S11, S22, S01, S02, S12``.
+    """
+    return (
+        B[0, 0] + B[1, 1] + B[2, 2],
+        B[1, 2] - B[2, 1],
+        B[2, 0] - B[0, 2],
+        B[0, 1] - B[1, 0],
+        2.0 * B[0, 0],
+        2.0 * B[1, 1],
+        2.0 * B[2, 2],
+        B[0, 1] + B[1, 0],
+        B[0, 2] + B[2, 0],
+        B[1, 2] + B[2, 1],
+    )
 
 
 @njit(cache=True, inline="always")
@@ -107,16 +136,7 @@ def _det4(
 @njit(cache=True)
 def lambda_max(B: FloatArray, n_pairs: int, weight_sum: float) -> float:
     """Largest eigenvalue of ``K(B)`` (eq. 16 corrected): closed form for 2 pairs, else Newton."""
-    sigma = B[0, 0] + B[1, 1] + B[2, 2]
-    z0 = B[1, 2] - B[2, 1]
-    z1 = B[2, 0] - B[0, 2]
-    z2 = B[0, 1] - B[1, 0]
-    S00 = 2.0 * B[0, 0]
-    S11 = 2.0 * B[1, 1]
-    S22 = 2.0 * B[2, 2]
-    S01 = B[0, 1] + B[1, 0]
-    S02 = B[0, 2] + B[2, 0]
-    S12 = B[1, 2] + B[2, 1]
+    sigma, z0, z1, z2, S00, S11, S22, S01, S02, S12 = _k_terms(B)
     adj_tr = (S11 * S22 - S12 * S12) + (S00 * S22 - S02 * S02) + (S00 * S11 - S01 * S01)
     pb = -2.0 * sigma * sigma + adj_tr - (z0 * z0 + z1 * z1 + z2 * z2)
     detB = (
@@ -174,16 +194,7 @@ def esoq2_kernel(b: FloatArray, r: FloatArray, weights: FloatArray) -> FloatArra
     """
     B, rot = attitude_profile(b, r, weights, False)
     lam = lambda_max(B, b.shape[0], weights.sum())
-    sigma = B[0, 0] + B[1, 1] + B[2, 2]
-    z0 = B[1, 2] - B[2, 1]
-    z1 = B[2, 0] - B[0, 2]
-    z2 = B[0, 1] - B[1, 0]
-    S00 = 2.0 * B[0, 0]
-    S11 = 2.0 * B[1, 1]
-    S22 = 2.0 * B[2, 2]
-    S01 = B[0, 1] + B[1, 0]
-    S02 = B[0, 2] + B[2, 0]
-    S12 = B[1, 2] + B[2, 1]
+    sigma, z0, z1, z2, S00, S11, S22, S01, S02, S12 = _k_terms(B)
     # M = (lam - sigma) [(lam + sigma) I - S] - z z^T ; its null vector is the axis e
     a = lam - sigma
     c = lam + sigma

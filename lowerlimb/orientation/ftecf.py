@@ -40,7 +40,9 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from lowerlimb.orientation._quaternion_nb import norm3, qintegrate, qnormalize, rotate_to_sensor
+from lowerlimb.orientation._filter_inputs import loop_inputs, magnetic_reference
+from lowerlimb.orientation._quaternion_nb import norm3, put_quat, qintegrate, qnormalize
+from lowerlimb.orientation._wahba_pairs_nb import hemisphere_sign, measure_pairs, reference_pairs
 from lowerlimb.orientation.esoq2 import esoq2_kernel
 from lowerlimb.orientation.fuzzy_fusion import fuzzy_gain
 from lowerlimb.orientation.initialisation import InitialState
@@ -105,87 +107,32 @@ def _ftecf_loop(
     n = gyr.shape[0]
     out = np.empty((n, 4))
     w, x, y, z = q0[0], q0[1], q0[2], q0[3]
-    b = np.empty((2, 3))
-    r = np.zeros((2, 3))
-    r[0, 2] = 1.0
-    wts = np.empty(2)
-    rmx = 0.0
-    rmy = math.cos(mag_dip_ref)
-    rmz = -math.sin(mag_dip_ref)
+    b, r, wts = reference_pairs(use_mag, mag_dip_ref, mag_weight)
     for i in range(n):
         gx, gy, gz = gyr[i, 0], gyr[i, 1], gyr[i, 2]
         wn = norm3(gx, gy, gz)
         # 1. gyro quaternion (eq. 1-4)
         gw_, gx_, gy_, gz_ = qintegrate(w, x, y, z, gx, gy, gz, dt)
-        # 2. accelerometer compensation (eq. 18-20)
-        ax, ay, az = acc[i, 0], acc[i, 1], acc[i, 2]
-        an = norm3(ax, ay, az)
-        if an > 0.0 and abs(an - g_ref) <= acc_tol and wn <= gyr_tol:
-            fx, fy, fz = ax / an, ay / an, az / an
-        else:
-            fx, fy, fz = rotate_to_sensor(gw_, gx_, gy_, gz_, 0.0, 0.0, 1.0)
-        b[0, 0] = fx
-        b[0, 1] = fy
-        b[0, 2] = fz
-        # 3. second vector pair and ESOQ-2 reference quaternion (eq. 13-17)
-        mag_ok = False
-        if use_mag:
-            mx, my, mz = mag[i, 0], mag[i, 1], mag[i, 2]
-            mn = norm3(mx, my, mz)
-            if mn > 0.0:
-                mx /= mn
-                my /= mn
-                mz /= mn
-                dip = math.asin(max(-1.0, min(1.0, -(mx * fx + my * fy + mz * fz))))
-                mag_ok = (
-                    mag_norm_ref <= 0.0
-                    or abs(mn - mag_norm_ref) <= mag_norm_tol * mag_norm_ref
-                    and abs(dip - mag_dip_ref) <= mag_dip_tol
-                )
-            if not mag_ok:
-                mx, my, mz = rotate_to_sensor(gw_, gx_, gy_, gz_, rmx, rmy, rmz)
-            b[1, 0] = mx
-            b[1, 1] = my
-            b[1, 2] = mz
-            r[1, 0] = rmx
-            r[1, 1] = rmy
-            r[1, 2] = rmz
-            wts[0] = 1.0 - mag_weight
-            wts[1] = mag_weight
-        else:
-            nx, ny, nz = rotate_to_sensor(gw_, gx_, gy_, gz_, 0.0, 1.0, 0.0)
-            d = nx * fx + ny * fy + nz * fz
-            nx -= d * fx
-            ny -= d * fy
-            nz -= d * fz
-            nn = norm3(nx, ny, nz)
-            b[1, 0] = nx / nn
-            b[1, 1] = ny / nn
-            b[1, 2] = nz / nn
-            r[1, 0] = 0.0
-            r[1, 1] = 1.0
-            r[1, 2] = 0.0
-            wts[0] = 0.5
-            wts[1] = 0.5
+        # 2.-3. accelerometer compensation (eq. 18-20), second vector pair and
+        # ESOQ-2 reference quaternion (eq. 13-17)
+        measure_pairs(
+            b, r, gw_, gx_, gy_, gz_, acc, mag, i, use_mag, wn,
+            g_ref, acc_tol, gyr_tol, mag_norm_ref, mag_dip_ref, mag_norm_tol, mag_dip_tol,
+        )  # fmt: skip
         qm = esoq2_kernel(b, r, wts)
         # 4. fusion factor (eq. 21, fuzzy rules; eq. 11)
         e1 = xi / (xi + 0.5 * wn)
         k = fuzzy_gain(e1, e_a, e_b, k_a, k_max)
         mu = k * dt / (1.0 + k * dt)
         # 5. blend on the same hemisphere (eq. 9-11) and normalise (eq. 12)
-        s = 1.0
-        if qm[0] * gw_ + qm[1] * gx_ + qm[2] * gy_ + qm[3] * gz_ < 0.0:
-            s = -1.0
+        s = hemisphere_sign(qm, gw_, gx_, gy_, gz_)
         w, x, y, z = qnormalize(
             (1.0 - mu) * gw_ + mu * s * qm[0],
             (1.0 - mu) * gx_ + mu * s * qm[1],
             (1.0 - mu) * gy_ + mu * s * qm[2],
             (1.0 - mu) * gz_ + mu * s * qm[3],
         )
-        out[i, 0] = w
-        out[i, 1] = x
-        out[i, 2] = y
-        out[i, 3] = z
+        put_quat(out, i, w, x, y, z)
     return out
 
 
@@ -214,18 +161,10 @@ def ftecf_filter(
         (N, 4) unit quaternions ``w, x, y, z``, sensor -> ENU.
     """
     p = params or FtecfParams()
-    mag_norm = initial.mag_norm if np.isfinite(initial.mag_norm) else 0.0
-    mag_dip = initial.mag_dip_rad if np.isfinite(initial.mag_dip_rad) else 0.0
     return _ftecf_loop(
-        np.ascontiguousarray(np.asarray(gyr, dtype=np.float64) - initial.gyr_bias_rad_s),
-        np.ascontiguousarray(acc, dtype=np.float64),
-        np.zeros((0, 3)) if mag is None else np.ascontiguousarray(mag, dtype=np.float64),
-        mag is not None,
-        1.0 / rate_hz,
-        np.asarray(initial.quat_wxyz, dtype=np.float64),
+        *loop_inputs(gyr, acc, mag, rate_hz, initial),
         initial.acc_norm_mps2,
-        mag_norm,
-        mag_dip,
+        *magnetic_reference(initial),
         p.xi,
         p.e1_a,
         p.e1_b,

@@ -28,8 +28,10 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from lowerlimb.orientation._filter_inputs import loop_inputs
 from lowerlimb.orientation._quaternion_nb import (
     norm3,
+    put_quat,
     qintegrate,
     qnormalize,
     rotate_to_earth,
@@ -141,10 +143,7 @@ def _madgwick_loop(
                 dy_ -= beta * sy / sn
                 dz_ -= beta * sz / sn
         w, x, y, z = qnormalize(pw + dw * dt, px + dx_ * dt, py + dy_ * dt, pz + dz_ * dt)
-        out[i, 0] = w
-        out[i, 1] = x
-        out[i, 2] = y
-        out[i, 3] = z
+        put_quat(out, i, w, x, y, z)
     return out
 
 
@@ -174,11 +173,6 @@ def madgwick_filter(
     """
     p = params or MadgwickParams()
     return _madgwick_loop(
-        np.ascontiguousarray(np.asarray(gyr, dtype=np.float64) - initial.gyr_bias_rad_s),
-        np.ascontiguousarray(acc, dtype=np.float64),
-        np.zeros((0, 3)) if mag is None else np.ascontiguousarray(mag, dtype=np.float64),
-        mag is not None,
-        1.0 / rate_hz,
-        np.asarray(initial.quat_wxyz, dtype=np.float64),
+        *loop_inputs(gyr, acc, mag, rate_hz, initial),
         p.beta,
     )

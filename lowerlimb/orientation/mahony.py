@@ -48,10 +48,12 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from lowerlimb.orientation._filter_inputs import loop_inputs, magnetic_reference
 from lowerlimb.orientation._magnetic_nb import mag_heading_error
 from lowerlimb.orientation._quaternion_nb import (
     cross,
     norm3,
+    put_quat,
     qintegrate,
     rotate_to_earth,
     rotate_to_sensor,
@@ -104,12 +106,12 @@ def _mahony_loop(
     use_mag: bool,
     dt: float,
     q0: FloatArray,
+    mag_norm_ref: float,
+    mag_dip_ref: float,
     kp: float,
     ki: float,
     kp_mag: float,
     acc_tau: float,
-    mag_norm_ref: float,
-    mag_dip_ref: float,
     mag_norm_tol: float,
     mag_dip_tol: float,
     bias_clip: float,
@@ -164,10 +166,7 @@ def _mahony_loop(
                 cz += kp_mag * s_h * vz
         # eq. 50, correction part; renormalised
         w, x, y, z = qintegrate(w, x, y, z, cx, cy, cz, dt)
-        out[i, 0] = w
-        out[i, 1] = x
-        out[i, 2] = y
-        out[i, 3] = z
+        put_quat(out, i, w, x, y, z)
     return out
 
 
@@ -198,18 +197,12 @@ def mahony_filter(
     """
     p = params or MahonyParams()
     return _mahony_loop(
-        np.ascontiguousarray(np.asarray(gyr, dtype=np.float64) - initial.gyr_bias_rad_s),
-        np.ascontiguousarray(acc, dtype=np.float64),
-        np.zeros((0, 3)) if mag is None else np.ascontiguousarray(mag, dtype=np.float64),
-        mag is not None,
-        1.0 / rate_hz,
-        np.asarray(initial.quat_wxyz, dtype=np.float64),
+        *loop_inputs(gyr, acc, mag, rate_hz, initial),
+        *magnetic_reference(initial),
         p.kp,
         p.ki,
         p.kp_mag,
         p.acc_lowpass_s,
-        initial.mag_norm if np.isfinite(initial.mag_norm) else 0.0,
-        initial.mag_dip_rad if np.isfinite(initial.mag_dip_rad) else 0.0,
         p.mag_norm_tol,
         p.mag_dip_tol_rad,
         p.bias_clip_rad_s,

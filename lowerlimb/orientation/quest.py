@@ -21,7 +21,13 @@ import numpy as np
 from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
-from lowerlimb.orientation.esoq2 import _check_pairs, attitude_profile, lambda_max, undo_rotation
+from lowerlimb.orientation.esoq2 import (
+    _check_pairs,
+    attitude_profile,
+    lambda_max,
+    turn_reference,
+    undo_rotation,
+)
 
 FloatArray = NDArray[np.float64]
 
@@ -75,11 +81,7 @@ def quest_kernel(b: FloatArray, r: FloatArray, weights: FloatArray) -> FloatArra
     B0, rot = attitude_profile(b, r, weights, True)
     lam = lambda_max(B0, b.shape[0], weights.sum())
     # undo the rotation applied by attitude_profile so B0 is the plain profile matrix
-    if rot > 0:
-        for c in range(3):
-            if c != rot - 1:
-                for j in range(3):
-                    B0[j, c] = -B0[j, c]
+    turn_reference(B0, rot)
     qw, qx, qy, qz = _quest_rotated(B0, rot, lam)
     n = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
     if abs(qw) < 0.3 * n:

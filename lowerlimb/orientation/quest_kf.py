@@ -38,7 +38,9 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from lowerlimb.orientation._quaternion_nb import norm3, qintegrate, qnormalize, rotate_to_sensor
+from lowerlimb.orientation._filter_inputs import loop_inputs, magnetic_reference
+from lowerlimb.orientation._quaternion_nb import norm3, put_quat, qintegrate, qnormalize
+from lowerlimb.orientation._wahba_pairs_nb import hemisphere_sign, measure_pairs, reference_pairs
 from lowerlimb.orientation.initialisation import InitialState
 from lowerlimb.orientation.quest import quest_kernel
 
@@ -128,13 +130,7 @@ def _quest_kf_loop(
     phi = math.exp(-dt / tau)
     q_rate = rate_var * (1.0 - phi * phi)
     q_quat = q_proc_std * q_proc_std * dt
-    b = np.empty((2, 3))
-    r = np.zeros((2, 3))
-    r[0, 2] = 1.0
-    wts = np.empty(2)
-    rmx = 0.0
-    rmy = math.cos(mag_dip_ref)
-    rmz = -math.sin(mag_dip_ref)
+    b, r, wts = reference_pairs(use_mag, mag_dip_ref, mag_weight)
     for i in range(n):
         # ---- prediction
         wx, wy, wz = xs[0], xs[1], xs[2]
@@ -218,58 +214,12 @@ def _quest_kf_loop(
             P[a, a] += q_quat
         # ---- QUEST measurement
         gx, gy, gz = gyr[i, 0], gyr[i, 1], gyr[i, 2]
-        ax, ay, az = acc[i, 0], acc[i, 1], acc[i, 2]
-        an = norm3(ax, ay, az)
-        if an > 0.0 and abs(an - g_ref) <= acc_tol and norm3(gx, gy, gz) <= gyr_tol:
-            fx, fy, fz = ax / an, ay / an, az / an
-        else:
-            fx, fy, fz = rotate_to_sensor(pw, px, py, pz, 0.0, 0.0, 1.0)
-        b[0, 0] = fx
-        b[0, 1] = fy
-        b[0, 2] = fz
-        if use_mag:
-            mx, my, mz = mag[i, 0], mag[i, 1], mag[i, 2]
-            mn = norm3(mx, my, mz)
-            ok = False
-            if mn > 0.0:
-                mx /= mn
-                my /= mn
-                mz /= mn
-                dip = math.asin(max(-1.0, min(1.0, -(mx * fx + my * fy + mz * fz))))
-                ok = (
-                    mag_norm_ref <= 0.0
-                    or abs(mn - mag_norm_ref) <= mag_norm_tol * mag_norm_ref
-                    and abs(dip - mag_dip_ref) <= mag_dip_tol
-                )
-            if not ok:
-                mx, my, mz = rotate_to_sensor(pw, px, py, pz, rmx, rmy, rmz)
-            b[1, 0] = mx
-            b[1, 1] = my
-            b[1, 2] = mz
-            r[1, 0] = rmx
-            r[1, 1] = rmy
-            r[1, 2] = rmz
-            wts[0] = 1.0 - mag_weight
-            wts[1] = mag_weight
-        else:
-            nx, ny, nz = rotate_to_sensor(pw, px, py, pz, 0.0, 1.0, 0.0)
-            d = nx * fx + ny * fy + nz * fz
-            nx -= d * fx
-            ny -= d * fy
-            nz -= d * fz
-            nn = norm3(nx, ny, nz)
-            b[1, 0] = nx / nn
-            b[1, 1] = ny / nn
-            b[1, 2] = nz / nn
-            r[1, 0] = 0.0
-            r[1, 1] = 1.0
-            r[1, 2] = 0.0
-            wts[0] = 0.5
-            wts[1] = 0.5
+        measure_pairs(
+            b, r, pw, px, py, pz, acc, mag, i, use_mag, norm3(gx, gy, gz),
+            g_ref, acc_tol, gyr_tol, mag_norm_ref, mag_dip_ref, mag_norm_tol, mag_dip_tol,
+        )  # fmt: skip
         qm = quest_kernel(b, r, wts)
-        sgn = 1.0
-        if qm[0] * pw + qm[1] * px + qm[2] * py + qm[3] * pz < 0.0:
-            sgn = -1.0
+        sgn = hemisphere_sign(qm, pw, px, py, pz)
         z[0] = gx
         z[1] = gy
         z[2] = gz
@@ -293,10 +243,7 @@ def _quest_kf_loop(
         xs[4] = qx
         xs[5] = qy
         xs[6] = qz
-        out[i, 0] = qw
-        out[i, 1] = qx
-        out[i, 2] = qy
-        out[i, 3] = qz
+        put_quat(out, i, qw, qx, qy, qz)
     return out
 
 
@@ -325,18 +272,10 @@ def quest_kf_filter(
         (N, 4) unit quaternions ``w, x, y, z``, sensor -> ENU.
     """
     p = params or QuestKfParams()
-    mag_norm = initial.mag_norm if np.isfinite(initial.mag_norm) else 0.0
-    mag_dip = initial.mag_dip_rad if np.isfinite(initial.mag_dip_rad) else 0.0
     return _quest_kf_loop(
-        np.ascontiguousarray(np.asarray(gyr, dtype=np.float64) - initial.gyr_bias_rad_s),
-        np.ascontiguousarray(acc, dtype=np.float64),
-        np.zeros((0, 3)) if mag is None else np.ascontiguousarray(mag, dtype=np.float64),
-        mag is not None,
-        1.0 / rate_hz,
-        np.asarray(initial.quat_wxyz, dtype=np.float64),
+        *loop_inputs(gyr, acc, mag, rate_hz, initial),
         initial.acc_norm_mps2,
-        mag_norm,
-        mag_dip,
+        *magnetic_reference(initial),
         p.tau_s,
         p.rate_var,
         p.quat_process_std,
