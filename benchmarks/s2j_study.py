@@ -44,7 +44,6 @@ from typing import Any
 
 import numpy as np
 
-from lowerlimb.calibration.gyro_bias import gyro_bias, initial_still_samples
 from lowerlimb.conventions import JOINTS, FloatArray
 from lowerlimb.motion import track_segments
 from lowerlimb.s2j import (
@@ -55,6 +54,7 @@ from lowerlimb.s2j import (
     reference_segment_relative_positions,
 )
 from lowerlimb.simulation import ImuNoise, Simulation, SoftTissue, simulate
+from lowerlimb.stillness import gyro_bias, initial_still_samples
 
 MOTIONS = (("knee-lift", "Test 1"), ("sit-to-stand", "Test 2"), ("squat", "Test 3"), ("half-squat", "Test 4"))
 METHODS = ("M1", "M2", "M3", "M4")

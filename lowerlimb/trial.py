@@ -16,7 +16,6 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.ndimage import uniform_filter1d
 
 from .conventions import GRAVITY_MPS2, SENSORS, FloatArray, check_side
 from .errors import (
@@ -27,6 +26,7 @@ from .errors import (
     TooShortError,
     UnitError,
 )
+from .stillness import initial_still_samples
 
 #: Shortest trial accepted, s.
 MIN_DURATION_S = 2.0
@@ -37,9 +37,6 @@ GYRO_DEG_PER_S_THRESHOLD = 35.0
 ACC_G_THRESHOLD = 3.0
 #: Largest relative deviation of one time step from the median step.
 TIME_JITTER_TOLERANCE = 0.25
-#: Standing-still detection: mean gyro norm (rad/s) and acc-norm spread (m/s²).
-STILL_GYRO_RPS = 0.2
-STILL_ACC_STD_MPS2 = 0.3
 
 
 class StandingStartWarning(UserWarning):
@@ -160,19 +157,17 @@ class ImuTrial:
             raise TooShortError(self.duration_s, MIN_DURATION_S)
 
     def standing_samples(self, duration_s: float = 1.0) -> int:
-        """Number of samples at the start in which every IMU is still (0 if under ``duration_s``)."""
-        n_min = max(2, int(round(duration_s * self.rate_hz)))
-        still = np.ones(self.n_samples, dtype=bool)
-        win = max(3, int(round(0.1 * self.rate_hz)))
-        for sensor in SENSORS:
-            g = uniform_filter1d(np.linalg.norm(self.gyr[sensor], axis=1), win, mode="nearest")
-            a = np.linalg.norm(self.acc[sensor], axis=1)
-            a_mean = uniform_filter1d(a, win, mode="nearest")
-            a_var = uniform_filter1d((a - a_mean) ** 2, win, mode="nearest")
-            still &= (g < STILL_GYRO_RPS) & (np.sqrt(a_var) < STILL_ACC_STD_MPS2)
-        moving = np.flatnonzero(~still)
-        n_still = int(moving[0]) if moving.size else self.n_samples
-        return n_still if n_still >= n_min else 0
+        """Number of samples at the start in which every IMU is still (0 if under ``duration_s``).
+
+        Uses the library's one still-period detector,
+        :func:`lowerlimb.stillness.initial_still_samples`.
+        """
+        return initial_still_samples(
+            [self.gyr[s] for s in SENSORS],
+            [self.acc[s] for s in SENSORS],
+            self.rate_hz,
+            min_duration_s=duration_s,
+        )
 
     def has_standing_start(self, duration_s: float = 1.0) -> bool:
         """True when the recording starts with ≥ ``duration_s`` of every IMU still."""
@@ -186,8 +181,8 @@ class ImuTrial:
         """
         n = self.standing_samples(1.0)
         if n > 0:
-            # the detector lags the start of motion by up to ~0.2 s: keep clear of it
-            n = max(int(round(0.8 * self.rate_hz)), n - int(round(0.25 * self.rate_hz)))
+            # keep clear of the gradual onset of motion
+            n = max(int(round(0.8 * self.rate_hz)), n - int(round(0.15 * self.rate_hz)))
         if n == 0:
             warnings.warn(
                 "the trial does not start with 1 s of standing still; "

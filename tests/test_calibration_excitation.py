@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from lowerlimb.calibration.excitation import ExcitationReport, jacobian_report
-from lowerlimb.calibration.gyro_bias import gyro_bias, initial_still_samples
+from lowerlimb.stillness import gyro_bias, initial_still_samples
 
 
 def test_report_of_a_well_posed_fit():

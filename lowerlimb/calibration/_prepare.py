@@ -8,12 +8,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from lowerlimb.calibration.gyro_bias import gyro_bias, initial_still_samples
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.constraints.angular_acceleration import angular_acceleration, window_length
 from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError, NonFiniteValueError, ShapeError, UnitError
+from lowerlimb.stillness import gyro_bias, initial_still_samples
 
 #: Shortest signal accepted by the calibration, s.
 MIN_DURATION_S = 1.0

@@ -9,7 +9,7 @@ Public entry points:
 Pipeline (choices the paper leaves open are written here):
 
 1. gyro bias removed using a still period at the start
-   (:mod:`~lowerlimb.calibration.gyro_bias`);
+   (:mod:`~lowerlimb.stillness`);
 2. gyro and accelerometer low-passed at a motion-adaptive cut-off, α by a
    Savitzky–Golay derivative (:mod:`lowerlimb.constraints.prefilter`,
    :mod:`lowerlimb.constraints.angular_acceleration`);
