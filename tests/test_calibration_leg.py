@@ -202,6 +202,18 @@ def test_other_motions_are_accurate_or_warn(motion):
             assert cal.joints[j].warnings, (j, e)
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [21, 22])
+def test_rich_motion_meets_10_mm_in_every_sensor_frame(seed):
+    """Knee lifts with hip and ankle circles and a turning pelvis ("mixed"): <= 10 mm everywhere."""
+    sim = cached_simulation("mixed", 60.0, seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ExcitationWarning)  # well excited: no warning either
+        e = errors(calibrate_leg(sim.trial), sim.truth)
+    assert max(v for k, v in e.items() if k.endswith("mm")) <= 10.0, e
+    assert e["knee_axis_parent_deg"] <= 0.5
+
+
 def test_noise_free_squat_is_exact():
     sim = cached_simulation("squat", 30.0, 3, noise=ImuNoise.none())
     with warnings.catch_warnings():

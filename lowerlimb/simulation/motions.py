@@ -23,7 +23,7 @@ import numpy as np
 
 from ..conventions import FloatArray
 
-MOTIONS: tuple[str, ...] = ("walk", "squat", "half-squat", "knee-lift", "sit-to-stand")
+MOTIONS: tuple[str, ...] = ("walk", "squat", "half-squat", "knee-lift", "sit-to-stand", "mixed")
 
 
 @dataclass
@@ -201,10 +201,58 @@ def sit_to_stand(t: FloatArray, s: FloatArray, rng: np.random.Generator) -> Moti
     return MotionKinematics(angles, pelvis, yaw, None)
 
 
+def mixed(t: FloatArray, s: FloatArray, rng: np.random.Generator) -> MotionKinematics:
+    """A calibration motion rich in every degree of freedom: knee lifts with hip circles.
+
+    Standing on the other leg: hip flexion 0–80° in knee lifts with hip
+    ab/adduction (±20°) and rotation (±15°) circles, knee bending with the
+    hip, ankle circles (dorsiflexion ±20°, inversion ±15°, rotation ±10°) and a
+    pelvis that tilts, lists and turns briskly (±6–16°, up to 1 Hz). It excites the hip and ankle
+    centres along every direction, which walking and squats do not.
+    """
+    n = t.shape[0]
+
+    def sine(amp_deg: float, f_lo: float, f_hi: float) -> FloatArray:
+        f = rng.uniform(f_lo, f_hi)
+        return np.asarray(np.deg2rad(amp_deg) * np.sin(2 * np.pi * f * t + rng.uniform(0, 2 * np.pi)))
+
+    period = rng.uniform(2.5, 3.2)
+    c = _cycle(t + rng.uniform(0, period), period, rng.uniform(0.1, 0.3))
+    angles = np.zeros((n, 9))
+    angles[:, 0] = np.deg2rad(rng.uniform(60, 80)) * c + sine(10, 0.2, 0.3)
+    angles[:, 1] = sine(20, 0.25, 0.45)
+    angles[:, 2] = sine(15, 0.3, 0.55)
+    angles[:, 3] = np.deg2rad(rng.uniform(70, 90)) * c + np.deg2rad(10) * (1 + np.sin(2 * np.pi * 0.37 * t))
+    angles[:, 6] = sine(20, 0.5, 0.8)
+    angles[:, 7] = sine(15, 0.45, 0.7)
+    angles[:, 8] = sine(10, 0.35, 0.6)
+    angles *= s[:, None]
+    # the pelvis must turn briskly, not only far: its angular acceleration is what
+    # makes the hip centre visible from the pelvis sensor
+    pelvis = (
+        np.column_stack(
+            [
+                sine(6, 0.6, 1.0) + sine(6, 0.15, 0.3),
+                sine(6, 0.7, 1.1),
+                sine(8, 0.5, 0.9) + sine(8, 0.1, 0.25),
+            ]
+        )
+        * s[:, None]
+    )
+    yaw = rng.uniform(-np.pi, np.pi) + sine(25, 0.05, 0.1) * s
+    pos = np.column_stack(
+        [0.03 * np.sin(0.9 * t), 0.03 * np.cos(0.7 * t), np.full(n, 0.95) + 0.02 * np.sin(1.3 * t)]
+    )
+    pos[:, :2] *= s[:, None]
+    pos[:, 2] = 0.95 + (pos[:, 2] - 0.95) * s
+    return MotionKinematics(angles, pelvis, yaw, pos)
+
+
 MOTION_FUNCTIONS: dict[str, Callable[[FloatArray, FloatArray, np.random.Generator], MotionKinematics]] = {
     "walk": walk,
     "squat": squat,
     "half-squat": half_squat,
     "knee-lift": knee_lift,
     "sit-to-stand": sit_to_stand,
+    "mixed": mixed,
 }
