@@ -1,0 +1,57 @@
+"""Speed of the IMU simulator: a 60 s, 100 Hz, 4-sensor trial per motion (goal: walk < 2 s on one core).
+
+Usage: ``python benchmarks/simulator_speed.py [--repeats 3]``; writes
+``benchmarks/results/simulator_speed.{md,json}``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+from pathlib import Path
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+from lowerlimb.simulation import MOTIONS, ImuNoise, simulate  # noqa: E402
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--duration", type=float, default=60.0)
+    ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
+    args = ap.parse_args()
+    simulate("walk", 3.0, 0)  # warm-up: imports and first-call costs
+    rows = {}
+    for motion in MOTIONS:
+        for soft in (False, True):
+            best = float("inf")
+            for r in range(args.repeats):
+                t0 = time.perf_counter()
+                simulate(motion, args.duration, r, noise=ImuNoise(), soft_tissue=soft)
+                best = min(best, time.perf_counter() - t0)
+            rows[f"{motion}{' + soft tissue' if soft else ''}"] = best
+    lines = [
+        f"# Simulator speed ({args.duration:g} s, 100 Hz, 4 IMUs, realistic noise; best of {args.repeats})",
+        "",
+        "Goal: walk under 2 s on one core.",
+        "",
+        "| motion | wall time (s) | samples/s |",
+        "|---|---|---|",
+    ]
+    n = int(args.duration * 100)
+    for name, t in rows.items():
+        lines.append(f"| {name} | {t:.2f} | {n / t:,.0f} |")
+    md = "\n".join(lines) + "\n"
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "simulator_speed.md").write_text(md)
+    (args.out / "simulator_speed.json").write_text(
+        json.dumps({"duration_s": args.duration, "wall_s": rows}, indent=1)
+    )
+    print(md)
+
+
+if __name__ == "__main__":
+    main()
