@@ -1,7 +1,8 @@
 """The ``lowerlimb`` command line (DESIGN.md: simulate, calibrate, demo, view).
 
 Exit status: 0 success, 2 bad input (one line on stderr naming the problem and
-the fix, no traceback, no partial output), 1 internal error.
+the fix, no traceback, no partial output), 1 internal error (one line; set
+``LOWERLIMB_DEBUG=1`` for the traceback), 130 interrupted.
 """
 
 from __future__ import annotations
@@ -109,6 +110,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--height", type=_positive_float, default=1.75, help="subject height, m (default: 1.75)")
     p.add_argument("--mass", type=_positive_float, default=75.0, help="subject mass, kg (default: 75)")
     p.add_argument("--no-mag", action="store_true", help="ignore magnetometer columns (6-axis fusion)")
+    p.add_argument(
+        "--calibration",
+        type=Path,
+        metavar="CALIBRATION.json",
+        help="reuse the joint calibration of an earlier trial with the same sensor placements "
+        "(calibrate a walk or the 'mixed' motion once, then squats, knee lifts…) instead of "
+        "calibrating this trial",
+    )
     p.add_argument(
         "--s2j",
         type=Path,
@@ -273,12 +282,19 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (InputError, FileNotFoundError, IsADirectoryError, PermissionError) as e:
         print(f"lowerlimb: error: {_one_line(e)}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except LowerLimbError as e:
-        print(f"lowerlimb: internal error: {_one_line(e)}", file=sys.stderr)
-        return EXIT_INTERNAL
     except KeyboardInterrupt:
         print("lowerlimb: interrupted", file=sys.stderr)
         return 130
+    except Exception as e:  # a bug or a solver failure, not the user's input
+        if os.environ.get("LOWERLIMB_DEBUG"):
+            raise
+        kind = "internal error" if isinstance(e, LowerLimbError) else f"internal error ({type(e).__name__})"
+        print(
+            f"lowerlimb: {kind}: {_one_line(e)}; rerun with LOWERLIMB_DEBUG=1 for the traceback "
+            f"and report it",
+            file=sys.stderr,
+        )
+        return EXIT_INTERNAL
 
 
 def _write_text(path: Path, text: str) -> None:

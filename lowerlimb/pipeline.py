@@ -13,7 +13,7 @@ import json
 import sys
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -28,6 +28,7 @@ from .motion import SegmentMotion, track_segments
 from .orientation import estimate_orientation
 from .output import write_angles_csv, write_positions_csv
 from .s2j import S2JModel, constant_s2j_from_calibration
+from .stillness import gyro_bias, initial_still_samples
 from .trial import ImuTrial
 
 #: Name of the S2J sidecar written beside the URDF.
@@ -54,6 +55,7 @@ class TrialResult:
         timings_s: wall time of each stage, s.
         used_mag: whether the magnetometer was fused.
         filter_name: the orientation filter used.
+        calibration_reused: the joint calibration came from an earlier trial.
     """
 
     trial: ImuTrial
@@ -66,6 +68,7 @@ class TrialResult:
     timings_s: dict[str, float] = field(default_factory=dict)
     used_mag: bool = False
     filter_name: str = "mahony"
+    calibration_reused: bool = False
 
     @property
     def angles_rad(self) -> FloatArray:
@@ -76,6 +79,7 @@ class TrialResult:
         """calibration.json content: the DESIGN.md schema plus segment frames and diagnostics."""
         d = self.calibration.to_dict()
         d["filter"] = self.filter_name
+        d["calibration_reused"] = self.calibration_reused
         d["magnetometer_used"] = self.used_mag
         d["segment_frames"] = {
             seg: {"quat_wxyz_segment_in_sensor": quat_from_matrix(R).tolist()}
@@ -103,6 +107,7 @@ def process_trial(
     mass_kg: float = 75.0,
     use_mag: bool = True,
     s2j: S2JModel | None = None,
+    calibration: LegCalibration | None = None,
     progress: bool = False,
 ) -> TrialResult:
     """Calibrate a trial and compute its joint angles and positions.
@@ -116,6 +121,9 @@ def process_trial(
         use_mag: fuse the magnetometer when the trial has one.
         s2j: a fitted time-varying S2J model (Lee & Lee 2022, M2/M3) of these
             sensor placements; default: constant vectors from this calibration (M1).
+        calibration: reuse a joint-constraint calibration of the same sensor
+            placements (e.g. from a walk or the "mixed" motion) instead of
+            calibrating this trial; its gyro bias is re-measured on this trial.
         progress: print one line per stage on stderr.
     """
     timings: dict[str, float] = {}
@@ -127,7 +135,23 @@ def process_trial(
 
     reference = trial.reference_samples()
     t0 = time.perf_counter()
-    calib = calibrate_leg(trial, method=method)
+    if calibration is None:
+        calib = calibrate_leg(trial, method=method)
+    else:
+        if calibration.side != trial.side:
+            raise InputError(
+                f"the calibration is of the {calibration.side} leg but the trial is the {trial.side} "
+                f"leg; pass --side {calibration.side} or another calibration"
+            )
+        n_still = initial_still_samples(
+            [trial.gyr[s] for s in SENSORS], [trial.acc[s] for s in SENSORS], trial.rate_hz
+        )
+        calib = replace(
+            calibration,
+            runtime_s=0.0,
+            gyro_bias={s: gyro_bias(trial.gyr[s], n_still) for s in SENSORS},
+            still_s=n_still / trial.rate_hz,
+        )
     step("joint calibration", t0)
     calib_dict = calib.to_dict()
 
@@ -168,7 +192,17 @@ def process_trial(
         positions = chain_positions(model, motion.angles_rad, s2j.predict(motion.angles_rad))
     step("forward kinematics", t0)
     return TrialResult(
-        trial, calib, quats, motion, model, positions, s2j, timings, mag is not None, filter_name
+        trial,
+        calib,
+        quats,
+        motion,
+        model,
+        positions,
+        s2j,
+        timings,
+        mag is not None,
+        filter_name,
+        calibration is not None,
     )
 
 
@@ -243,6 +277,9 @@ def run_calibrate(args: argparse.Namespace) -> None:
     s2j = None
     if getattr(args, "s2j", None) is not None:
         s2j = _read_s2j(Path(args.s2j))
+    previous = None
+    if getattr(args, "calibration", None) is not None:
+        previous = _read_calibration(Path(args.calibration))
     if args.method not in CLI_METHODS:
         raise InputError(f"unknown method '{args.method}'; choose one of {', '.join(CLI_METHODS)}")
     print(
@@ -260,6 +297,7 @@ def run_calibrate(args: argparse.Namespace) -> None:
             mass_kg=args.mass,
             use_mag=not getattr(args, "no_mag", False),
             s2j=s2j,
+            calibration=previous,
             progress=True,
         )
     seen: set[str] = set()
@@ -286,3 +324,19 @@ def _read_s2j(path: Path) -> S2JModel:
         raise InputError(
             f"{path} is not a lowerlimb S2J model ({e}); write one with S2JModel.to_dict()"
         ) from None
+
+
+def _read_calibration(path: Path) -> LegCalibration:
+    if not path.is_file():
+        raise FileNotFoundError(f"calibration not found: {path}")
+    try:
+        return LegCalibration.from_dict(json.loads(path.read_text(encoding="utf-8")))
+    except (ValueError, TypeError) as e:
+        raise InputError(
+            f"{path} is not a lowerlimb calibration.json ({_first_line(e)}); give the calibration.json "
+            f"written by 'lowerlimb calibrate'"
+        ) from None
+
+
+def _first_line(e: BaseException) -> str:
+    return str(e).splitlines()[0] if str(e) else type(e).__name__

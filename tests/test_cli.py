@@ -64,3 +64,19 @@ def test_version(capsys):
         main(["--version"])
     assert e.value.code == 0
     assert "lowerlimb" in capsys.readouterr().out
+
+
+def test_internal_error_is_one_line_and_exit_1(monkeypatch, capsys):
+    import lowerlimb.cli as cli
+
+    def broken(args):
+        raise RuntimeError("boom")
+
+    monkeypatch.setitem(cli.COMMANDS, "simulate", broken)
+    monkeypatch.delenv("LOWERLIMB_DEBUG", raising=False)
+    assert main(["simulate", "--out", "x.csv"]) == 1
+    err = capsys.readouterr().err
+    assert "internal error (RuntimeError): boom" in err and err.count("\n") == 1
+    monkeypatch.setenv("LOWERLIMB_DEBUG", "1")
+    with pytest.raises(RuntimeError):
+        main(["simulate", "--out", "x.csv"])

@@ -104,3 +104,53 @@ def test_existing_output_directory_is_refused(tmp_path, capsys):
     sim.trial.to_csv(tmp_path / "t.csv")
     assert main(["calibrate", str(tmp_path / "t.csv"), "--out", str(tmp_path / "o")]) == 2
     assert "not empty" in capsys.readouterr().err
+
+
+def test_reusing_a_rich_calibration_fixes_a_poorly_excited_trial(tmp_path, capsys):
+    """Calibrate the 'mixed' motion once, then apply it to squats of the same sensor placements."""
+    rich = cached_simulation("mixed", 40.0, 31)
+    squats = cached_simulation("squat", 40.0, 32, geometry=rich.model.geometry)
+    rich.trial.to_csv(tmp_path / "rich.csv")
+    squats.trial.to_csv(tmp_path / "squat.csv")
+    assert main(["calibrate", str(tmp_path / "rich.csv"), "--out", str(tmp_path / "rich")]) == 0
+    assert main(["calibrate", str(tmp_path / "squat.csv"), "--out", str(tmp_path / "self")]) == 0
+    assert (
+        main(
+            [
+                "calibrate",
+                str(tmp_path / "squat.csv"),
+                "--out",
+                str(tmp_path / "reuse"),
+                "--calibration",
+                str(tmp_path / "rich" / "calibration.json"),
+            ]
+        )
+        == 0
+    )
+
+    def p2f_mm(d):
+        pos = np.loadtxt(d / "positions.csv", delimiter=",", skiprows=1)[:, 1:4]
+        return 1e3 * np.sqrt(np.mean(np.sum((pos - squats.positions_m[:, :3]) ** 2, axis=1)))
+
+    reused = json.loads((tmp_path / "reuse" / "calibration.json").read_text())
+    assert reused["calibration_reused"] is True and reused["runtime_s"] == 0.0
+    assert p2f_mm(tmp_path / "reuse") < 20.0
+    assert p2f_mm(tmp_path / "reuse") < 0.5 * p2f_mm(tmp_path / "self")
+    # a calibration of the other leg is refused with one line
+    capsys.readouterr()
+    assert (
+        main(
+            [
+                "calibrate",
+                str(tmp_path / "squat.csv"),
+                "--out",
+                str(tmp_path / "x"),
+                "--side",
+                "right",
+                "--calibration",
+                str(tmp_path / "rich" / "calibration.json"),
+            ]
+        )
+        == 2
+    )
+    assert "left leg" in capsys.readouterr().err and not (tmp_path / "x").exists()
