@@ -1,7 +1,28 @@
-"""The IMU simulator: the referee every estimator is tested against."""
+"""The IMU simulator: the referee every estimator is tested against.
+
+Names are imported on first use (PEP 562), so the command line can list the
+motions without loading Pinocchio.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
 
 from .motions import MOTIONS
-from .noise import ImuNoise, SoftTissue
-from .simulator import Simulation, simulate
 
 __all__ = ["MOTIONS", "ImuNoise", "Simulation", "SoftTissue", "simulate"]
+
+_EXPORTS = {"ImuNoise": "noise", "SoftTissue": "noise", "Simulation": "simulator", "simulate": "simulator"}
+
+if TYPE_CHECKING:
+    from .noise import ImuNoise, SoftTissue
+    from .simulator import Simulation, simulate
+
+
+def __getattr__(name: str) -> Any:
+    if name in _EXPORTS:
+        value = getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'lowerlimb.simulation' has no attribute {name!r}")
