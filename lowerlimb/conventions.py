@@ -164,9 +164,7 @@ def quat_from_matrix(R: ArrayLike) -> FloatArray:
     tr = m00 + m11 + m22
     cand = np.stack([tr, m00, m11, m22], axis=-1)
     k = np.argmax(cand, axis=-1)
-    s = np.sqrt(
-        np.maximum(1.0 + 2.0 * np.take_along_axis(cand, k[..., None], -1)[..., 0] - tr, 1e-300)
-    )
+    s = np.sqrt(np.maximum(1.0 + 2.0 * np.take_along_axis(cand, k[..., None], -1)[..., 0] - tr, 1e-300))
     # s = 2 |largest component|
     r21, r12 = R[..., 2, 1], R[..., 1, 2]
     r02, r20 = R[..., 0, 2], R[..., 2, 0]
@@ -202,9 +200,7 @@ def quat_from_rotvec(rotvec: ArrayLike) -> FloatArray:
     angle = np.linalg.norm(rv, axis=-1, keepdims=True)
     half = 0.5 * angle
     # sin(half)/angle, with its limit 1/2 at zero
-    k = np.where(
-        angle > 1e-12, np.sin(half) / np.where(angle > 1e-12, angle, 1.0), 0.5 - angle**2 / 48
-    )
+    k = np.where(angle > 1e-12, np.sin(half) / np.where(angle > 1e-12, angle, 1.0), 0.5 - angle**2 / 48)
     return np.concatenate([np.cos(half), k * rv], axis=-1)
 
 
@@ -240,9 +236,7 @@ def rot_x(angle: ArrayLike) -> FloatArray:
     a = np.asarray(angle, dtype=float)
     c, s = np.cos(a), np.sin(a)
     o, z = np.ones_like(a), np.zeros_like(a)
-    return np.stack(
-        [np.stack([o, z, z], -1), np.stack([z, c, -s], -1), np.stack([z, s, c], -1)], -2
-    )
+    return np.stack([np.stack([o, z, z], -1), np.stack([z, c, -s], -1), np.stack([z, s, c], -1)], -2)
 
 
 def rot_y(angle: ArrayLike) -> FloatArray:
@@ -250,9 +244,7 @@ def rot_y(angle: ArrayLike) -> FloatArray:
     a = np.asarray(angle, dtype=float)
     c, s = np.cos(a), np.sin(a)
     o, z = np.ones_like(a), np.zeros_like(a)
-    return np.stack(
-        [np.stack([c, z, s], -1), np.stack([z, o, z], -1), np.stack([-s, z, c], -1)], -2
-    )
+    return np.stack([np.stack([c, z, s], -1), np.stack([z, o, z], -1), np.stack([-s, z, c], -1)], -2)
 
 
 def rot_z(angle: ArrayLike) -> FloatArray:
@@ -260,9 +252,7 @@ def rot_z(angle: ArrayLike) -> FloatArray:
     a = np.asarray(angle, dtype=float)
     c, s = np.cos(a), np.sin(a)
     o, z = np.ones_like(a), np.zeros_like(a)
-    return np.stack(
-        [np.stack([c, -s, z], -1), np.stack([s, c, z], -1), np.stack([z, z, o], -1)], -2
-    )
+    return np.stack([np.stack([c, -s, z], -1), np.stack([s, c, z], -1), np.stack([z, z, o], -1)], -2)
 
 
 def matrix_from_euler_zxy(z: ArrayLike, x: ArrayLike, y: ArrayLike) -> FloatArray:
@@ -281,9 +271,7 @@ def euler_zxy_from_matrix(R: ArrayLike) -> FloatArray:
     cx = np.hypot(R[..., 0, 1], R[..., 1, 1])
     x = np.arctan2(R[..., 2, 1], cx)
     lock = cx < 1e-9
-    z = np.where(
-        lock, np.arctan2(R[..., 1, 0], R[..., 0, 0]), np.arctan2(-R[..., 0, 1], R[..., 1, 1])
-    )
+    z = np.where(lock, np.arctan2(R[..., 1, 0], R[..., 0, 0]), np.arctan2(-R[..., 0, 1], R[..., 1, 1]))
     y = np.where(lock, 0.0, np.arctan2(-R[..., 2, 0], R[..., 2, 2]))
     return np.stack([z, x, y], axis=-1)
 

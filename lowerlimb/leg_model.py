@@ -42,9 +42,7 @@ class LegModel:
     # ------------------------------------------------------------ construction
 
     @classmethod
-    def from_template(
-        cls, side: str = "left", height_m: float = 1.75, mass_kg: float = 75.0
-    ) -> LegModel:
+    def from_template(cls, side: str = "left", height_m: float = 1.75, mass_kg: float = 75.0) -> LegModel:
         """Anthropometric template (de Leva 1996) with IMUs at the segment origins."""
         return cls(LegGeometry.from_anthropometry(side, height_m, mass_kg))
 
@@ -85,11 +83,7 @@ class LegModel:
 
     def set_sensor_placement(self, sensor: str, placement: pin.SE3 | FloatArray) -> None:
         """Set the pose (SE3 or 4x4) of an IMU in its segment frame; no rebuild needed."""
-        T = (
-            placement.homogeneous
-            if isinstance(placement, pin.SE3)
-            else np.asarray(placement, float)
-        )
+        T = placement.homogeneous if isinstance(placement, pin.SE3) else np.asarray(placement, float)
         self.geometry.sensor_placements[sensor] = T.copy()
         self.model.frames[self.frame_id(f"imu_{sensor}")].placement = pin.SE3(T)
 
@@ -99,11 +93,7 @@ class LegModel:
 
     def set_joint_origin(self, joint: str, placement: pin.SE3 | FloatArray) -> None:
         """Set a joint origin (SE3 or 4x4) in its parent segment frame; no rebuild needed."""
-        T = (
-            placement.homogeneous
-            if isinstance(placement, pin.SE3)
-            else np.asarray(placement, float)
-        )
+        T = placement.homogeneous if isinstance(placement, pin.SE3) else np.asarray(placement, float)
         self.geometry.joint_origins[joint] = T.copy()
         self.model.jointPlacements[self._joint_ids[JOINT_DOF_NAMES[joint][0]]] = pin.SE3(T)
 
@@ -120,9 +110,7 @@ class LegModel:
 
     # ------------------------------------------------------------ kinematics
 
-    def configuration(
-        self, angles_rad: FloatArray, pelvis_pose: pin.SE3 | None = None
-    ) -> FloatArray:
+    def configuration(self, angles_rad: FloatArray, pelvis_pose: pin.SE3 | None = None) -> FloatArray:
         """Configuration ``q`` (nq,) from the 9 joint angles (rad) and the pelvis pose in the world.
 
         Only valid for the default free-flyer root.
@@ -174,9 +162,7 @@ class LegModel:
         elif sensor == "shank":
             axis_seg = axis_joint
         else:
-            raise InputError(
-                f"the knee axis is defined in the thigh or shank sensor, not '{sensor}'"
-            )
+            raise InputError(f"the knee axis is defined in the thigh or shank sensor, not '{sensor}'")
         return np.asarray(self.geometry.sensor_placements[sensor][:3, :3].T @ axis_seg)
 
     def calibration_dict(self, method: str = "truth") -> dict[str, object]:
@@ -202,9 +188,7 @@ class LegModel:
             s: {
                 "segment": s,
                 "position_in_segment": self.geometry.sensor_placements[s][:3, 3].tolist(),
-                "quat_wxyz_in_segment": quat_from_matrix(
-                    self.geometry.sensor_placements[s][:3, :3]
-                ).tolist(),
+                "quat_wxyz_in_segment": quat_from_matrix(self.geometry.sensor_placements[s][:3, :3]).tolist(),
             }
             for s in SENSORS
         }

@@ -10,9 +10,7 @@ from .conventions import ANGLE_COLUMNS, POSITION_COLUMNS, FloatArray
 from .errors import InputError
 
 
-def write_angles_csv(
-    path: str | os.PathLike[str], time_s: FloatArray, angles_rad: FloatArray
-) -> None:
+def write_angles_csv(path: str | os.PathLike[str], time_s: FloatArray, angles_rad: FloatArray) -> None:
     """Write ``angles.csv``: time (s) and the 9 ISB joint angles in DEGREES.
 
     Args:
@@ -24,9 +22,7 @@ def write_angles_csv(
     np.savetxt(path, data, delimiter=",", header=",".join(ANGLE_COLUMNS), comments="", fmt="%.6f")
 
 
-def write_positions_csv(
-    path: str | os.PathLike[str], time_s: FloatArray, positions_m: FloatArray
-) -> None:
+def write_positions_csv(path: str | os.PathLike[str], time_s: FloatArray, positions_m: FloatArray) -> None:
     """Write ``positions.csv``: time (s), pelvis→foot sensor and hip→ankle centre vectors (m).
 
     Args:
@@ -36,9 +32,7 @@ def write_positions_csv(
             :data:`POSITION_COLUMNS` order.
     """
     data = np.column_stack([time_s, positions_m])
-    np.savetxt(
-        path, data, delimiter=",", header=",".join(POSITION_COLUMNS), comments="", fmt="%.7f"
-    )
+    np.savetxt(path, data, delimiter=",", header=",".join(POSITION_COLUMNS), comments="", fmt="%.7f")
 
 
 def read_table(path: str | os.PathLike[str], columns: tuple[str, ...]) -> FloatArray:

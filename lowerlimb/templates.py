@@ -32,9 +32,7 @@ def template_path(side: str = "left") -> Path:
 
 def render_template(side: str) -> str:
     """URDF text of the template leg of one side."""
-    return LegGeometry.from_anthropometry(
-        side, TEMPLATE_HEIGHT_M, TEMPLATE_MASS_KG
-    ).to_urdf_string()
+    return LegGeometry.from_anthropometry(side, TEMPLATE_HEIGHT_M, TEMPLATE_MASS_KG).to_urdf_string()
 
 
 def main() -> None:

@@ -219,15 +219,12 @@ class ImuTrial:
                 warnings.simplefilter("ignore")
                 raw = np.genfromtxt(path, delimiter=",", skip_header=1, dtype=float, ndmin=2)
         except ValueError as e:
-            raise InputError(
-                f"{path} has rows of unequal length or bad cells ({e}); fix the CSV"
-            ) from None
+            raise InputError(f"{path} has rows of unequal length or bad cells ({e}); fix the CSV") from None
         if raw.size == 0:
             raise TooShortError(0.0, MIN_DURATION_S)
         if raw.shape[1] != len(header):
             raise InputError(
-                f"{path} has {raw.shape[1]} columns of data but {len(header)} header names; "
-                f"fix the header"
+                f"{path} has {raw.shape[1]} columns of data but {len(header)} header names; fix the header"
             )
         col = {name: i for i, name in enumerate(header)}
 

@@ -9,7 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from solvers._checks import as_box, as_vector, check_inside, evaluate_population, require_finite_best
+from solvers._checks import as_box, evaluate_population
+from solvers._swarm import initial_positions, stall_message, swarm_result
 from solvers.result import SolverResult
 
 
@@ -127,11 +128,7 @@ def dwpso(
     v_max = params.max_velocity * span
     rng = np.random.default_rng(seed)
 
-    X = lo + rng.random((n_particles, n)) * span
-    if x0 is not None:
-        x_start = as_vector(x0, "x0")
-        check_inside(x_start, lo, hi)
-        X[0] = x_start
+    X = initial_positions(rng, lo, hi, n_particles, x0)
     V = rng.uniform(-1.0, 1.0, (n_particles, n)) * v_max
     f = evaluate_population(cost, X, "dwpso")
     best_pos, best_f = X.copy(), f.copy()
@@ -161,28 +158,22 @@ def dwpso(
         g = int(np.argmin(best_f))
         history.append(float(best_f[g]))
         iterations = k + 1
-        s = params.stall_iterations
-        if len(history) > s and np.isfinite(history[-1]):
-            if history[-1 - s] - history[-1] <= tol * abs(history[-1]):
-                converged = True
-                message = f"best cost improved by <= tol (relative) over {s} iterations"
-                break
+        stalled = stall_message(history, 0, params.stall_iterations, tol)
+        if stalled is not None:
+            converged, message = True, stalled
+            break
 
-    require_finite_best(best_f[g], n_particles * (iterations + 1), "dwpso")
-    diag = float(np.linalg.norm(span)) or 1.0
-    spread = float(np.sqrt(np.mean(np.sum((X - best_pos[g]) ** 2, axis=1)))) / diag
-    return SolverResult(
-        x=best_pos[g].copy(),
-        cost=float(best_f[g]),
+    return swarm_result(
+        "dwpso",
+        best_pos[g],
+        best_f[g],
+        X,
+        span,
+        history,
+        population=n_particles,
         iterations=iterations,
-        wall_time_s=time.perf_counter() - t_start,
         converged=converged,
-        method="dwpso",
-        diagnostics={
-            "cost_history": np.asarray(history),
-            "n_evaluations": n_particles * (iterations + 1),
-            "inertia_weights": np.asarray(weights),
-            "final_spread": spread,
-            "message": message,
-        },
+        message=message,
+        t_start=t_start,
+        extra={"inertia_weights": np.asarray(weights)},
     )

@@ -9,7 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from solvers._checks import as_box, as_vector, check_inside, evaluate_population, require_finite_best
+from solvers._checks import as_box, evaluate_population
+from solvers._swarm import initial_positions, stall_message, swarm_result
 from solvers.result import SolverResult
 
 
@@ -96,11 +97,7 @@ def gwo(
     span = hi - lo
     rng = np.random.default_rng(seed)
 
-    X = lo + rng.random((n_wolves, n)) * span
-    if x0 is not None:
-        x_start = as_vector(x0, "x0")
-        check_inside(x_start, lo, hi)
-        X[0] = x_start
+    X = initial_positions(rng, lo, hi, n_wolves, x0)
     f = evaluate_population(cost, X, "gwo")
     order = np.argsort(f, kind="stable")[:3]
     leaders, leader_f = X[order].copy(), f[order].copy()
@@ -127,29 +124,22 @@ def gwo(
         iterations = k + 1
         if k >= 0.75 * max_iter and final_start < 0:
             final_start = len(history) - 1
-        s = params.stall_iterations
-        if 0 <= final_start <= len(history) - 1 - s and np.isfinite(history[-1]):
-            if history[-1 - s] - history[-1] <= tol * abs(history[-1]):
-                converged = True
-                message = f"best cost improved by <= tol (relative) over {s} iterations"
-                break
+        stalled = stall_message(history, final_start, params.stall_iterations, tol)
+        if stalled is not None:
+            converged, message = True, stalled
+            break
 
-    require_finite_best(leader_f[0], n_wolves * (iterations + 1), "gwo")
-    diag = float(np.linalg.norm(span)) or 1.0
-    spread = float(np.sqrt(np.mean(np.sum((X - leaders[0]) ** 2, axis=1)))) / diag
-    return SolverResult(
-        x=leaders[0].copy(),
-        cost=float(leader_f[0]),
+    return swarm_result(
+        "gwo",
+        leaders[0],
+        leader_f[0],
+        X,
+        span,
+        history,
+        population=n_wolves,
         iterations=iterations,
-        wall_time_s=time.perf_counter() - t_start,
         converged=converged,
-        method="gwo",
-        diagnostics={
-            "cost_history": np.asarray(history),
-            "n_evaluations": n_wolves * (iterations + 1),
-            "leaders": leaders,
-            "leader_costs": leader_f,
-            "final_spread": spread,
-            "message": message,
-        },
+        message=message,
+        t_start=t_start,
+        extra={"leaders": leaders, "leader_costs": leader_f},
     )

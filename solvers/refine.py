@@ -5,7 +5,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from collections.abc import Callable
-from typing import Literal
+from typing import Literal, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -15,6 +15,17 @@ from solvers.gwo import GWOParams, gwo
 from solvers.result import SolverResult
 
 Swarm = Literal["dwpso", "gwo"]
+
+_P = TypeVar("_P", DWPSOParams, GWOParams)
+
+
+def _swarm_params(swarm: str, params: DWPSOParams | GWOParams | None, kind: type[_P]) -> _P:
+    """``params``, or the defaults when ``None``; ValueError when they belong to the other swarm."""
+    if params is None:
+        return kind()
+    if not isinstance(params, kind):
+        raise ValueError(f"swarm={swarm!r} takes {kind.__name__}")
+    return params
 
 
 def swarm_then_refine(
@@ -67,8 +78,6 @@ def swarm_then_refine(
     """
     t_start = time.perf_counter()
     if swarm == "dwpso":
-        if params is not None and not isinstance(params, DWPSOParams):
-            raise ValueError("swarm='dwpso' takes DWPSOParams")
         first = dwpso(
             cost_batch,
             lower,
@@ -78,11 +87,9 @@ def swarm_then_refine(
             seed=seed,
             tol=tol,
             x0=x0,
-            params=params or DWPSOParams(),
+            params=_swarm_params(swarm, params, DWPSOParams),
         )
     elif swarm == "gwo":
-        if params is not None and not isinstance(params, GWOParams):
-            raise ValueError("swarm='gwo' takes GWOParams")
         first = gwo(
             cost_batch,
             lower,
@@ -92,7 +99,7 @@ def swarm_then_refine(
             seed=seed,
             tol=tol,
             x0=x0,
-            params=params or GWOParams(),
+            params=_swarm_params(swarm, params, GWOParams),
         )
     else:
         raise ValueError(f"unknown swarm {swarm!r}; choose 'dwpso' or 'gwo'")

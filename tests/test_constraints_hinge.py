@@ -40,7 +40,12 @@ def test_eq5_corrected_last_component_is_sin_phi():
 @given(st.lists(st.floats(-1, 1), min_size=3, max_size=3).filter(lambda v: np.linalg.norm(v) > 0.1))
 def test_angles_round_trip(v):
     u = np.asarray(v) / np.linalg.norm(v)
-    assert np.allclose(axis_from_angles(*angles_from_axis(u)), u, atol=1e-9)
+    assert np.allclose(axis_from_angles(*angles_from_axis(u)), u, atol=1e-12)
+
+
+def test_angles_round_trip_next_to_the_pole():
+    u = np.array([0.0, 1e-8, 1.0]) / np.linalg.norm([0.0, 1e-8, 1.0])
+    assert np.allclose(axis_from_angles(*angles_from_axis(u)), u, atol=1e-12)
 
 
 def test_axis_angles_jacobian_by_finite_differences():

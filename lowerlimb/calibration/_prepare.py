@@ -11,6 +11,7 @@ from numpy.typing import ArrayLike
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.constraints.angular_acceleration import angular_acceleration, window_length
 from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass
+from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError, NonFiniteValueError, ShapeError, UnitError
 from lowerlimb.stillness import gyro_bias, initial_still_samples
@@ -167,3 +168,45 @@ def prepare_signals(
         for k, g in gyr_c.items()
     }
     return PreparedSignals(rate_hz, acc_f, gyr_c, angacc, bias, n_still, cutoff, noise)
+
+
+def pair_data(sig: PreparedSignals, parent: str = "p", child: str = "c") -> SphericalData:
+    """The prepared signals of the ``parent`` and ``child`` sensors as a :class:`SphericalData`."""
+    return SphericalData(
+        sig.acc[parent],
+        sig.gyr[parent],
+        sig.angacc[parent],
+        sig.acc[child],
+        sig.gyr[child],
+        sig.angacc[child],
+    )
+
+
+def prepare_pair(
+    acc_parent: ArrayLike,
+    gyr_parent: ArrayLike,
+    acc_child: ArrayLike,
+    gyr_child: ArrayLike,
+    rate_hz: float,
+    options: CalibrationOptions,
+) -> tuple[PreparedSignals, SphericalData]:
+    """Check the four signals of a sensor pair and prepare them (sensors ``"p"`` and ``"c"``).
+
+    Returns:
+        The prepared signals (``rate_hz`` checked) and the pair's :class:`SphericalData`.
+
+    Raises:
+        ShapeError: an array is not (N, 3) or lengths differ.
+        NonFiniteValueError: NaN or inf in a signal.
+        UnitError: a gyro that looks like deg/s.
+        InputError: non-positive rate or too few samples.
+    """
+    rate = check_rate(rate_hz)
+    ap = check_signal(acc_parent, "acc_parent", "m/s²")
+    n = ap.shape[0]
+    wp = check_signal(gyr_parent, "gyr_parent", "rad/s", n)
+    ac = check_signal(acc_child, "acc_child", "m/s²", n)
+    wc = check_signal(gyr_child, "gyr_child", "rad/s", n)
+    check_duration(n, rate, options)
+    sig = prepare_signals({"p": ap, "c": ac}, {"p": wp, "c": wc}, rate, options)
+    return sig, pair_data(sig)

@@ -55,8 +55,10 @@ from lowerlimb.calibration._prepare import (
     check_duration,
     check_rate,
     check_signal,
+    pair_data,
     prepare_signals,
 )
+from lowerlimb.calibration._rotation import low_rotation_messages
 from lowerlimb.calibration._solve import LsqProblem, solve_global, solve_local, subsample_step
 from lowerlimb.calibration.excitation import issue_warnings, jacobian_report
 from lowerlimb.calibration.geometry import basis_with_first_axis
@@ -365,13 +367,12 @@ def fit_hinge_axis(
             f"({', '.join(f'{c:+.2f}' for c in tilt_c)}) in the {child_sensor} sensor frame; "
             f"record motion in which the {parent_sensor} segment also rotates about other axes"
         )
-    for name, w in ((parent_sensor, wp), (child_sensor, wc)):
-        rms = float(np.sqrt(np.mean(np.sum(w**2, axis=1))))
-        if rms < options.min_rms_rate_rps:
-            messages.append(
-                f"{joint}: the {name} sensor hardly rotates (RMS {rms:.3f} rad/s); the hinge "
-                f"axis cannot be determined; record a trial in which the joint moves"
-            )
+    messages += low_rotation_messages(
+        joint,
+        ((parent_sensor, wp), (child_sensor, wc)),
+        options.min_rms_rate_rps,
+        "the hinge axis cannot be determined; record a trial in which the joint moves",
+    )
     report.warnings = list(messages)
     issue_warnings(messages, stacklevel=4)
     return HingeAxisCalibration(
@@ -454,9 +455,7 @@ def calibrate_hinge_axis(
     sig = prepare_signals(accs, {"p": wp, "c": wc}, rate, opts)
     acc_check = None
     if accs:
-        data = SphericalData(
-            sig.acc["p"], sig.gyr["p"], sig.angacc["p"], sig.acc["c"], sig.gyr["c"], sig.angacc["c"]
-        )
+        data = pair_data(sig)
 
         def acc_check(jp: FloatArray, jc: FloatArray) -> float:
             return acc_sign_correlation(data, jp, jc, opts)[0]

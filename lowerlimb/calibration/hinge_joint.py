@@ -14,12 +14,7 @@ from __future__ import annotations
 
 from numpy.typing import ArrayLike
 
-from lowerlimb.calibration._prepare import (
-    check_duration,
-    check_rate,
-    check_signal,
-    prepare_signals,
-)
+from lowerlimb.calibration._prepare import prepare_pair
 from lowerlimb.calibration.hinge_axis import acc_sign_correlation, fit_hinge_axis
 from lowerlimb.calibration.joint_center import fit_spherical
 from lowerlimb.calibration.options import CalibrationOptions, check_method
@@ -128,20 +123,10 @@ def calibrate_hinge_joint(
     """
     opts = options or CalibrationOptions()
     check_method(method)
-    rate = check_rate(rate_hz)
-    ap = check_signal(acc_parent, "acc_parent", "m/s²")
-    n = ap.shape[0]
-    wp = check_signal(gyr_parent, "gyr_parent", "rad/s", n)
-    ac = check_signal(acc_child, "acc_child", "m/s²", n)
-    wc = check_signal(gyr_child, "gyr_child", "rad/s", n)
-    check_duration(n, rate, opts)
-    sig = prepare_signals({"p": ap, "c": ac}, {"p": wp, "c": wc}, rate, opts)
-    data = SphericalData(
-        sig.acc["p"], sig.gyr["p"], sig.angacc["p"], sig.acc["c"], sig.gyr["c"], sig.angacc["c"]
-    )
+    sig, data = prepare_pair(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, opts)
     return fit_hinge_joint(
         data,
-        rate_hz=rate,
+        rate_hz=sig.rate_hz,
         method=method,
         options=opts,
         n_still=sig.n_still,

@@ -28,12 +28,8 @@ import time
 import numpy as np
 from numpy.typing import ArrayLike
 
-from lowerlimb.calibration._prepare import (
-    check_duration,
-    check_rate,
-    check_signal,
-    prepare_signals,
-)
+from lowerlimb.calibration._prepare import prepare_pair
+from lowerlimb.calibration._rotation import low_rotation_messages
 from lowerlimb.calibration._solve import LsqProblem, solve_global, solve_local, subsample_step
 from lowerlimb.calibration.excitation import issue_warnings, jacobian_report
 from lowerlimb.calibration.geometry import basis_with_first_axis
@@ -172,13 +168,12 @@ def fit_spherical(
             f"{_direction_text(v[3:])} in the {child_sensor} sensor frame; record motion that "
             f"rotates both segments about several axes (not only flexion)"
         )
-    for name, w in ((parent_sensor, data.gyr_parent), (child_sensor, data.gyr_child)):
-        rms = float(np.sqrt(np.mean(np.sum(w**2, axis=1))))
-        if rms < options.min_rms_rate_rps:
-            messages.append(
-                f"{joint}: the {name} sensor hardly rotates (RMS {rms:.3f} rad/s); the centre in "
-                f"its frame cannot be determined; record a trial in which this segment moves"
-            )
+    messages += low_rotation_messages(
+        joint,
+        ((parent_sensor, data.gyr_parent), (child_sensor, data.gyr_child)),
+        options.min_rms_rate_rps,
+        "the centre in its frame cannot be determined; record a trial in which this segment moves",
+    )
     report.warnings = list(messages)
     issue_warnings(messages, stacklevel=4)
     return SphericalJointCalibration(
@@ -238,17 +233,7 @@ def calibrate_spherical_joint(
     """
     opts = options or CalibrationOptions()
     check_method(method)
-    rate = check_rate(rate_hz)
-    ap = check_signal(acc_parent, "acc_parent", "m/s²")
-    n = ap.shape[0]
-    wp = check_signal(gyr_parent, "gyr_parent", "rad/s", n)
-    ac = check_signal(acc_child, "acc_child", "m/s²", n)
-    wc = check_signal(gyr_child, "gyr_child", "rad/s", n)
-    check_duration(n, rate, opts)
-    sig = prepare_signals({"p": ap, "c": ac}, {"p": wp, "c": wc}, rate, opts)
-    data = SphericalData(
-        sig.acc["p"], sig.gyr["p"], sig.angacc["p"], sig.acc["c"], sig.gyr["c"], sig.angacc["c"]
-    )
+    _, data = prepare_pair(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, opts)
     return fit_spherical(
         data,
         method=method,

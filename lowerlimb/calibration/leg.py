@@ -29,13 +29,13 @@ from lowerlimb.calibration._prepare import (
     check_duration,
     check_rate,
     check_signal,
+    pair_data,
     prepare_signals,
 )
 from lowerlimb.calibration.hinge_joint import fit_hinge_joint
 from lowerlimb.calibration.joint_center import fit_spherical
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
-from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import JOINT_SENSORS, SENSORS, FloatArray
 from lowerlimb.errors import InputError
 
@@ -184,14 +184,13 @@ def calibrate_leg(
     t0 = time.perf_counter()
     sig = prepare_signals(acc, gyr, rate, opts)
 
-    def data(p: str, c: str) -> SphericalData:
-        return SphericalData(sig.acc[p], sig.gyr[p], sig.angacc[p], sig.acc[c], sig.gyr[c], sig.angacc[c])
-
     p, c, _ = JOINT_SENSORS["hip"]
-    hip = fit_spherical(data(p, c), method=method, options=opts, joint="hip", parent_sensor=p, child_sensor=c)
+    hip = fit_spherical(
+        pair_data(sig, p, c), method=method, options=opts, joint="hip", parent_sensor=p, child_sensor=c
+    )
     p, c, _ = JOINT_SENSORS["knee"]
     knee = fit_hinge_joint(
-        data(p, c),
+        pair_data(sig, p, c),
         rate_hz=rate,
         method=method,
         options=opts,
@@ -202,7 +201,7 @@ def calibrate_leg(
     )
     p, c, _ = JOINT_SENSORS["ankle"]
     ankle = fit_spherical(
-        data(p, c), method=method, options=opts, joint="ankle", parent_sensor=p, child_sensor=c
+        pair_data(sig, p, c), method=method, options=opts, joint="ankle", parent_sensor=p, child_sensor=c
     )
     runtime = time.perf_counter() - t0
     return LegCalibration(

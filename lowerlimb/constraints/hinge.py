@@ -85,7 +85,8 @@ def angles_from_axis(axis: ArrayLike) -> tuple[float, float]:
     """(φ, θ) in rad of a (3,) vector (normalised first); inverse of :func:`axis_from_angles`."""
     v = np.asarray(axis, dtype=float).reshape(3)
     v = v / np.linalg.norm(v)
-    return float(np.arcsin(np.clip(v[2], -1.0, 1.0))), float(np.arctan2(v[1], v[0]))
+    # atan2 rather than arcsin: arcsin loses half the digits next to the poles
+    return float(np.arctan2(v[2], np.hypot(v[0], v[1]))), float(np.arctan2(v[1], v[0]))
 
 
 def _check(x: ArrayLike, gyr_parent: ArrayLike, gyr_child: ArrayLike) -> tuple[FloatArray, ...]:
