@@ -193,38 +193,37 @@ def simulate(
     hip_c = np.empty((n, 3))
     ankle_c = np.empty((n, 3))
     LOCAL = pin.ReferenceFrame.LOCAL
-    ang_idx = {sensor: [n_root + i for i in _STA_DRIVERS[sensor]] for sensor in SENSORS}
+    alpha = {sensor: np.empty((n, 3)) for sensor in SENSORS}
     for k in range(n):
         pin.forwardKinematics(model, data, Q[k], V[k], A[k])
         hip_c[k] = data.oMi[hip_j].translation
         ankle_c[k] = data.oMi[ankle_j].translation
         for sensor in SENSORS:
             fid = fids[sensor]
-            if sta is not None:
-                d = sta_dirs[sensor]
-                idx = ang_idx[sensor]
-                off = Q[k, idx] @ d
-                off_v = V[k, idx] @ d
-                off_a = A[k, idx] @ d
-                sta_off[sensor][k] = off
-                model.frames[fid].placement = pin.SE3(
-                    base_pl[sensor].rotation, base_pl[sensor].translation + off
-                )
             oMf = pin.updateFramePlacement(model, data, fid)
-            vel = pin.getFrameVelocity(model, data, fid, LOCAL)
-            acl = pin.getFrameClassicalAcceleration(model, data, fid, LOCAL).linear
-            R = oMf.rotation
+            gyr[sensor][k] = pin.getFrameVelocity(model, data, fid, LOCAL).angular
+            acc[sensor][k] = pin.getFrameClassicalAcceleration(model, data, fid, LOCAL).linear
             if sta is not None:
-                R_seg_s = base_pl[sensor].rotation
-                w_seg = R_seg_s @ vel.angular
-                acl = acl + R_seg_s.T @ (2.0 * np.cross(w_seg, off_v) + off_a)
-            gyr[sensor][k] = vel.angular
-            acc[sensor][k] = acl - R.T @ GRAVITY_ENU
-            rot[sensor][k] = R
+                alpha[sensor][k] = pin.getFrameAcceleration(model, data, fid, LOCAL).angular
+            rot[sensor][k] = oMf.rotation
             pos[sensor][k] = oMf.translation
-    if sta is not None:
-        for sensor in SENSORS:
-            model.frames[fids[sensor]].placement = base_pl[sensor]
+    for sensor in SENSORS:
+        if sta is not None:
+            # the sensor slides by Δ(t) on its segment (Δ in the segment frame, linear in the
+            # joint angles): the point's classical acceleration in the sensor frame is
+            # a0 + α×r + ω×(ω×r) + 2 ω×ṙ + r̈ with r = R_seg_sensorᵀ Δ
+            d = sta_dirs[sensor]
+            idx = [n_root + i for i in _STA_DRIVERS[sensor]]
+            R_seg_s = base_pl[sensor].rotation
+            off = Q[:, idx] @ d
+            sta_off[sensor] = off
+            r, r_v, r_a = (x @ d @ R_seg_s for x in (Q[:, idx], V[:, idx], A[:, idx]))
+            w = gyr[sensor]
+            acc[sensor] += (
+                np.cross(alpha[sensor], r) + np.cross(w, np.cross(w, r)) + 2.0 * np.cross(w, r_v) + r_a
+            )
+            pos[sensor] += np.einsum("nij,nj->ni", rot[sensor], r)
+        acc[sensor] -= np.einsum("nji,j->ni", rot[sensor], GRAVITY_ENU)
 
     quat = {sensor: quat_make_continuous(quat_from_matrix(rot[sensor])) for sensor in SENSORS}
     mag = {sensor: np.einsum("nji,j->ni", rot[sensor], MAG_FIELD_ENU_UT) for sensor in SENSORS}
