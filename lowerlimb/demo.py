@@ -140,7 +140,7 @@ def run_demo(args: argparse.Namespace) -> None:
         (d / "truth.json").write_text(json.dumps(sim.truth, indent=2), encoding="utf-8")
         write_angles_csv(d / "truth_angles.csv", sim.trial.time_s, sim.angles_rad)
         write_positions_csv(d / "truth_positions.csv", sim.trial.time_s, sim.positions_m)
-        write_outputs(result, d)
+        write_outputs(result, d, truth_angles_rad=sim.angles_rad, truth_positions_m=sim.positions_m)
         (d / "summary.md").write_text(summary, encoding="utf-8")
         plot_angles(
             d / "angles.png",

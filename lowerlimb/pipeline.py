@@ -206,8 +206,21 @@ def process_trial(
     )
 
 
-def write_outputs(result: TrialResult, directory: Path) -> None:
-    """Write every DESIGN.md output of a processed trial into ``directory``."""
+def write_outputs(
+    result: TrialResult,
+    directory: Path,
+    *,
+    truth_angles_rad: FloatArray | None = None,
+    truth_positions_m: FloatArray | None = None,
+) -> None:
+    """Write every DESIGN.md output of a processed trial into ``directory``.
+
+    Args:
+        result: the processed trial.
+        directory: an existing, empty folder.
+        truth_angles_rad: (N, 9) known angles (simulations) to overlay in the report.
+        truth_positions_m: (N, 6) known positions to overlay in the report.
+    """
     d = result.calibration_dict()
     d["urdf"] = "calibrated.urdf"
     d["s2j"] = S2J_SIDECAR
@@ -218,7 +231,7 @@ def write_outputs(result: TrialResult, directory: Path) -> None:
     (directory / "calibrated.urdf").write_text(
         urdf_with_sidecar(result.model.to_urdf_string()), encoding="utf-8"
     )
-    _write_report(result, directory, d)
+    _write_report(result, directory, d, truth_angles_rad, truth_positions_m)
 
 
 def urdf_with_sidecar(urdf: str) -> str:
@@ -247,11 +260,15 @@ def load_calibrated(directory: str | Path) -> tuple[LegModel, S2JModel]:
     return model, s2j
 
 
-def _write_report(result: TrialResult, directory: Path, calibration: dict[str, Any]) -> None:
-    try:
-        from .report import write_report
-    except ImportError:  # pragma: no cover - report module is part of the package
-        return
+def _write_report(
+    result: TrialResult,
+    directory: Path,
+    calibration: dict[str, Any],
+    truth_angles_rad: FloatArray | None = None,
+    truth_positions_m: FloatArray | None = None,
+) -> None:
+    from .report import write_report
+
     write_report(
         directory / "report.html",
         model=result.model,
@@ -259,6 +276,8 @@ def _write_report(result: TrialResult, directory: Path, calibration: dict[str, A
         angles_rad=result.angles_rad,
         positions_m=result.positions_m,
         calibration=calibration,
+        truth_angles_rad=truth_angles_rad,
+        truth_positions_m=truth_positions_m,
     )
 
 

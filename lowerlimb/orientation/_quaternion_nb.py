@@ -78,6 +78,35 @@ def rotate_to_sensor(w: float, x: float, y: float, z: float, vx: float, vy: floa
 
 
 @njit(cache=True, inline="always")
+def earth_lowpass(
+    w: float,
+    x: float,
+    y: float,
+    z: float,
+    ax: float,
+    ay: float,
+    az: float,
+    lx: float,
+    ly: float,
+    lz: float,
+    k: float,
+) -> tuple[float, float, float, float, float, float]:
+    """One step of a first-order low-pass of the specific force in the earth frame.
+
+    ``a`` (sensor frame) is rotated into the earth frame with ``q``, the state
+    ``l`` (earth frame) moves the fraction ``k`` towards it, and the new state
+    is rotated back into the sensor frame (VQF's accelerometer update, Laidig &
+    Seel 2023). Returns the new state ``l`` and ``R(q)ᵀ l``.
+    """
+    fx, fy, fz = rotate_to_earth(w, x, y, z, ax, ay, az)
+    lx += k * (fx - lx)
+    ly += k * (fy - ly)
+    lz += k * (fz - lz)
+    sx, sy, sz = rotate_to_sensor(w, x, y, z, lx, ly, lz)
+    return lx, ly, lz, sx, sy, sz
+
+
+@njit(cache=True, inline="always")
 def up_in_sensor(w: float, x: float, y: float, z: float) -> Vec:
     """Earth "up" ``e_z`` in the sensor frame, ``R(q)ᵀ e_z`` (Hu et al. 2021 eq. 45–46)."""
     return (

@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 
 from lowerlimb.orientation._filter_inputs import loop_inputs
 from lowerlimb.orientation._quaternion_nb import (
+    earth_lowpass,
     norm3,
     put_quat,
     qintegrate,
@@ -50,7 +51,8 @@ class MadgwickParams:
             error"); the correction rate of a wrong attitude is at most β.
     """
 
-    beta: float = 0.015
+    beta: float = 0.007
+    acc_lowpass_s: float = 3.0
 
 
 @njit(cache=True, inline="always")
@@ -102,10 +104,17 @@ def _madgwick_loop(
     dt: float,
     q0: FloatArray,
     beta: float,
+    acc_tau: float,
 ) -> FloatArray:
     n = gyr.shape[0]
     out = np.empty((n, 4))
     w, x, y, z = q0[0], q0[1], q0[2], q0[3]
+    k_lp = dt / (acc_tau + dt)
+    lx = 0.0
+    ly = 0.0
+    lz = 0.0
+    if n > 0:
+        lx, ly, lz = rotate_to_earth(w, x, y, z, acc[0, 0], acc[0, 1], acc[0, 2])
     for i in range(n):
         # eq. 43, integrated exactly over the sample
         pw, px, py, pz = qintegrate(w, x, y, z, gyr[i, 0], gyr[i, 1], gyr[i, 2], dt)
@@ -114,6 +123,8 @@ def _madgwick_loop(
         dy_ = 0.0
         dz_ = 0.0
         ax, ay, az = acc[i, 0], acc[i, 1], acc[i, 2]
+        if acc_tau > 0.0:
+            lx, ly, lz, ax, ay, az = earth_lowpass(pw, px, py, pz, ax, ay, az, lx, ly, lz, k_lp)
         an = norm3(ax, ay, az)
         sw = 0.0
         sx = 0.0
@@ -175,4 +186,5 @@ def madgwick_filter(
     return _madgwick_loop(
         *loop_inputs(gyr, acc, mag, rate_hz, initial),
         p.beta,
+        p.acc_lowpass_s,
     )
