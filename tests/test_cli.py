@@ -80,3 +80,29 @@ def test_internal_error_is_one_line_and_exit_1(monkeypatch, capsys):
     monkeypatch.setenv("LOWERLIMB_DEBUG", "1")
     with pytest.raises(RuntimeError):
         main(["simulate", "--out", "x.csv"])
+
+
+def test_demo_runs_the_whole_pipeline(tmp_path, capsys):
+    out = tmp_path / "demo"
+    assert main(["demo", "--out", str(out), "--duration", "12"]) == 0
+    for name in (
+        "trial.csv",
+        "truth.json",
+        "calibration.json",
+        "angles.csv",
+        "positions.csv",
+        "calibrated.urdf",
+        "s2j.json",
+        "report.html",
+        "summary.md",
+        "angles.png",
+    ):
+        assert (out / name).is_file(), name
+    summary = (out / "summary.md").read_text()
+    assert "pelvis-to-foot position RMSE" in summary
+    angles = np.loadtxt(out / "angles.csv", delimiter=",", skiprows=1)
+    truth = np.loadtxt(out / "truth_angles.csv", delimiter=",", skiprows=1)
+    assert np.sqrt(np.mean((angles[:, 1:] - truth[:, 1:]) ** 2, axis=0)).max() < 3.0
+    # a second run into the same folder is refused, leaving it intact
+    assert main(["demo", "--out", str(out), "--duration", "12"]) == 2
+    assert (out / "report.html").is_file()
