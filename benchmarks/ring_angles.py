@@ -16,8 +16,12 @@ Pipeline under test, per hinge (parent p, child c) and per recording:
    ``6ax+hdg`` (6-axis, then the child's heading turned about the vertical
    with :func:`lowerlimb.heading.relative_heading` /
    :func:`~lowerlimb.heading.rotate_about_vertical` so that ``u = R_p j_p``
-   and ``v = R_c j_c`` agree horizontally, as the library does at the knee),
-   ``9ax`` (with the magnetometer, arbitrary units) and ``9ax+hdg``;
+   and ``v = R_c j_c`` agree horizontally, as the library does at the knee,
+   Gaussian kernel 4 s as in :func:`~lowerlimb.heading.correct_headings`),
+   ``9ax`` (with the magnetometer, arbitrary units) and ``9ax+hdg``, and
+   ``6ax+hdg, nominal axis`` (the nominal x / y / z instead of the
+   estimated axis, for heading correction and angle: isolates the axis
+   estimate's share of the error);
 2. the hinge axis ``j_p``, ``j_c`` from the IMUs,
    :func:`lowerlimb.estimate_hinge_axis` (with both accelerometers for the
    sign), its sign fixed to point along the nominal axis (the sign convention
@@ -31,7 +35,8 @@ Pipeline under test, per hinge (parent p, child c) and per recording:
    left out) onto the IMU time base after shifting by the time offset found
    by cross-correlating the angular-speed magnitudes of all five segments
    (gyro norm against the norm of the rate differentiated from the optical
-   quaternions);
+   quaternions, ±2 s, 5 ms steps refined by a parabola); the optical
+   reference ``R_pc(0)`` is its mean over the same still interval;
 5. RMSE after removing the mean difference (the zero references of the two
    systems differ by the unknown mounting), and Pearson correlation, over the
    samples where the optical angle exists.
@@ -48,7 +53,9 @@ the functional axis of the optical data, and the magnetometer field's
 disturbance (spread of the norm and of the dip angle).
 
 Usage: ``python benchmarks/ring_angles.py --data DIR [--methods mahony,ftecf,madgwick] [--out DIR]``.
-Writes ``ring_angles.{md,json}`` into ``--out`` and prints the Markdown.
+Writes ``ring_angles.{md,json}`` into ``--out`` (the JSON also records the
+git commit, since the filters are still being tuned) and prints the Markdown.
+Takes about 10 s.
 """
 
 from __future__ import annotations
@@ -84,8 +91,10 @@ OMC_RATE_HZ = 30.0
 #: (parent segment, child segment, nominal hinge axis index in both segment frames)
 HINGES = ((2, 3, 0), (3, 4, 1), (4, 5, 2))
 VARIANTS = ("6ax", "6ax+hdg", "9ax", "9ax+hdg")
-#: Heading-correction kernel, s (lowerlimb.heading.relative_heading default).
-HEADING_WINDOW_S = 2.0
+#: 6-axis + heading correction with the nominal axis (x, y, z) instead of the estimated one.
+NOMINAL_VARIANT = "6ax+hdg, nominal axis"
+#: Heading-correction kernel, s (the default of lowerlimb.heading.correct_headings, used by the pipeline).
+HEADING_WINDOW_S = 4.0
 #: Smallest relative rotation counted in the axis sanity check, deg.
 AXIS_CHECK_MIN_DEG = 10.0
 
@@ -247,7 +256,11 @@ def fit_axes(imu: dict[int, dict[str, np.ndarray]]) -> dict[tuple[int, int], dic
         with warnings.catch_warnings(record=True) as w:
             warnings.simplefilter("always")
             j_p, j_c = estimate_hinge_axis(
-                imu[p]["gyr"], imu[c]["gyr"], rate_hz=IMU_RATE_HZ, acc_parent=imu[p]["acc"], acc_child=imu[c]["acc"]
+                imu[p]["gyr"],
+                imu[c]["gyr"],
+                rate_hz=IMU_RATE_HZ,
+                acc_parent=imu[p]["acc"],
+                acc_child=imu[c]["acc"],
             )
         j_p, j_c = np.asarray(j_p), np.asarray(j_c)
         flipped = bool(j_p @ e + j_c @ e < 0)
@@ -279,7 +292,9 @@ def compare(a_imu: np.ndarray, a_omc: np.ndarray) -> dict[str, float]:
     }
 
 
-def gyro_angle(imu: dict[int, dict[str, np.ndarray]], p: int, c: int, axes: dict[str, Any], n_still: int):
+def gyro_angle(
+    imu: dict[int, dict[str, np.ndarray]], p: int, c: int, axes: dict[str, Any], n_still: int
+) -> np.ndarray:
     """Filter-free hinge angle: integrated relative rate about the axis, rad."""
     rate = imu[c]["gyr"] @ axes["j_c"] - imu[p]["gyr"] @ axes["j_p"]
     rate = rate - rate[:n_still].mean()
@@ -303,21 +318,32 @@ def imu_hinge_angle(
 
 
 def mag_disturbance(imu: dict[int, dict[str, np.ndarray]]) -> dict[int, dict[str, float]]:
-    """Spread of the field norm and of the dip angle (field vs accelerometer at low acceleration)."""
+    """Spread of the field norm and of the dip angle, raw and after a hard-iron sphere fit.
+
+    The dip angle is the elevation of the field above the sensor's horizontal
+    plane, taken from the accelerometer at low acceleration (‖a‖ within
+    0.3 m/s² of g, ‖ω‖ < 0.5 rad/s); a homogeneous field gives one dip for
+    every sample and every IMU (about −65° in central Europe).
+    """
     out = {}
     for seg in range(2, 6):
-        m, a, g = imu[seg]["mag"], imu[seg]["acc"], imu[seg]["gyr"]
-        mn = np.linalg.norm(m, axis=1)
+        a, g = imu[seg]["acc"], imu[seg]["gyr"]
         an = np.linalg.norm(a, axis=1)
         calm = (np.abs(an - 9.81) < 0.3) & (np.linalg.norm(g, axis=1) < 0.5)
-        dip = np.degrees(np.arcsin(np.clip(np.sum(m * a, 1) / (mn * an), -1, 1)))[calm]
-        out[seg] = {
-            "norm_p5_rel": float(np.percentile(mn, 5) / np.median(mn)),
-            "norm_p95_rel": float(np.percentile(mn, 95) / np.median(mn)),
-            "dip_median_deg": float(np.median(dip)),
-            "dip_p5_deg": float(np.percentile(dip, 5)),
-            "dip_p95_deg": float(np.percentile(dip, 95)),
-        }
+        m_raw = imu[seg]["mag"]
+        x = np.linalg.lstsq(np.c_[2 * m_raw, np.ones(len(m_raw))], np.sum(m_raw**2, axis=1), rcond=None)[0]
+        row = {}
+        for tag, m in (("raw", m_raw), ("sphere", m_raw - x[:3])):
+            mn = np.linalg.norm(m, axis=1)
+            dip = np.degrees(np.arcsin(np.clip(np.sum(m * a, 1) / (mn * an), -1, 1)))[calm]
+            row |= {
+                f"{tag}_norm_p5_rel": float(np.percentile(mn, 5) / np.median(mn)),
+                f"{tag}_norm_p95_rel": float(np.percentile(mn, 95) / np.median(mn)),
+                f"{tag}_dip_median_deg": float(np.median(dip)),
+                f"{tag}_dip_p5_deg": float(np.percentile(dip, 5)),
+                f"{tag}_dip_p95_deg": float(np.percentile(dip, 95)),
+            }
+        out[seg] = row
     return out
 
 
@@ -328,11 +354,14 @@ def run_recording(
     n = len(imu[1]["gyr"])
     t_imu = np.arange(n) / IMU_RATE_HZ
     t_omc = np.arange(len(omc[1])) / OMC_RATE_HZ + lag_s
-    n_still = initial_still_samples([imu[s]["gyr"] for s in range(2, 6)], [imu[s]["acc"] for s in range(2, 6)], IMU_RATE_HZ)
+    n_still = initial_still_samples(
+        [imu[s]["gyr"] for s in range(2, 6)], [imu[s]["acc"] for s in range(2, 6)], IMU_RATE_HZ
+    )
     n_still = max(n_still, 10)
     # optical reference over the same (IMU-time) still window, on the optical grid
     omc_ref = slice(0, int(np.searchsorted(t_omc, t_imu[n_still - 1], side="right")))
     axes = fit_axes(imu)
+    nominal = {(p, c): {"j_p": np.eye(3)[k], "j_c": np.eye(3)[k]} for p, c, k in HINGES}
     res: dict[str, Any] = {"n_still": n_still, "axes": {}, "omc": {}, "rows": []}
     omc_angles = {}
     for p, c, k in HINGES:
@@ -348,16 +377,22 @@ def run_recording(
             "range_deg": [float(np.nanmin(np.degrees(a_omc))), float(np.nanmax(np.degrees(a_omc)))],
         }
         ax = axes[(p, c)]
-        res["axes"][f"seg{p}-seg{c}"] = {k2: (v.tolist() if isinstance(v, np.ndarray) else v) for k2, v in ax.items()}
-        a = gyro_angle(imu, p, c, ax, n_still)
-        res["rows"].append({"hinge": f"seg{p}-seg{c}", "method": "gyro", "variant": "integrated", **compare(a, a_omc)})
+        res["axes"][f"seg{p}-seg{c}"] = {
+            k2: (v.tolist() if isinstance(v, np.ndarray) else v) for k2, v in ax.items()
+        }
+        for variant, axx in (("integrated", ax), ("integrated, nominal axis", nominal[(p, c)])):
+            a = gyro_angle(imu, p, c, axx, n_still)
+            res["rows"].append(
+                {"hinge": f"seg{p}-seg{c}", "method": "gyro", "variant": variant, **compare(a, a_omc)}
+            )
     for method in methods:
         for nine in (False, True):
             q, rt = orientations(imu, method, nine)
-            for hdg in (False, True):
-                variant = ("9ax" if nine else "6ax") + ("+hdg" if hdg else "")
+            for variant in VARIANTS[2:] if nine else VARIANTS[:2] + (NOMINAL_VARIANT,):
+                hdg = "+hdg" in variant
                 for p, c, _ in HINGES:
-                    a, mis, dh = imu_hinge_angle(q, p, c, axes[(p, c)], n_still, hdg)
+                    axx = nominal[(p, c)] if variant == NOMINAL_VARIANT else axes[(p, c)]
+                    a, mis, dh = imu_hinge_angle(q, p, c, axx, n_still, hdg)
                     res["rows"].append(
                         {
                             "hinge": f"seg{p}-seg{c}",
@@ -379,12 +414,14 @@ def to_markdown(out: dict[str, Any]) -> str:
     """Markdown summary."""
     md = ["## RING chain: hinge angles from IMUs (lowerlimb orientation + hinge axis) vs optical\n"]
     lags = ", ".join(
-        f"{rec} {1000 * v['lag_s']:+.1f} ms (r = {v['correlation']:.3f})" for rec, v in out["time_offset"].items()
+        f"{rec} {1000 * v['lag_s']:+.1f} ms (r = {v['correlation']:.3f})"
+        for rec, v in out["time_offset"].items()
     )
     md.append(
-        f"Time offset optical → IMU from angular-speed cross-correlation: {lags}; applied. RMSE after removing the mean "
-        "difference (zero references differ), deg; r = Pearson correlation; misfit = median angle "
-        "between the rotation axis of R_pc(0)ᵀR_pc(t) and the estimated hinge axis (rotations > 10°), deg. "
+        f"Time offset optical → IMU from angular-speed cross-correlation: {lags}; applied. "
+        "RMSE after removing the mean difference (zero references differ), deg; "
+        "r = Pearson correlation; misfit = median angle between the rotation axis of "
+        "R_pc(0)ᵀR_pc(t) and the hinge axis used (rotations > 10°), deg. "
         "`gyro` = integrated relative rate about the axis, no orientation filter.\n"
     )
     methods = sorted({r["method"] for rec in out["recordings"].values() for r in rec["rows"]} - {"gyro"})
@@ -395,7 +432,8 @@ def to_markdown(out: dict[str, Any]) -> str:
         md.append("| method | variant | " + " | ".join(f"{h} RMSE ° (r, misfit °)" for h in hinges) + " |")
         md.append("|---|---|" + "---|" * len(hinges))
         rows = {(r["method"], r["variant"], r["hinge"]): r for r in res["rows"]}
-        keys = [("gyro", "integrated")] + [(m, v) for m in methods for v in VARIANTS]
+        keys = [("gyro", "integrated"), ("gyro", "integrated, nominal axis")]
+        keys += [(m, v) for m in methods for v in VARIANTS + (NOMINAL_VARIANT,)]
         for m, v in keys:
             cells = []
             for h in hinges:
@@ -418,19 +456,41 @@ def to_markdown(out: dict[str, Any]) -> str:
             mis = om["axis_misfit_nominal_deg"]
             md.append(
                 f"| {h} | {ax['err_parent_deg']:.2f} / {ax['err_child_deg']:.2f} | "
-                f"{om['range_deg'][0]:.0f} … {om['range_deg'][1]:.0f} | {mis['median']:.2f}, {mis['p90']:.2f} | "
+                f"{om['range_deg'][0]:.0f} … {om['range_deg'][1]:.0f} | "
+                f"{mis['median']:.2f}, {mis['p90']:.2f} | "
                 f"{om['functional_vs_nominal_deg']:.2f} | {len(ax['warnings'])} |"
             )
         md.append("")
     md.append("### Magnetometer (rigid recording)\n")
-    md.append("| IMU | ‖m‖ p5 / p95 relative to median | dip angle median (p5 … p95) ° |")
-    md.append("|---|---|---|")
+    md.append(
+        "Dip angle: field elevation above the sensor's horizontal (from the accelerometer at low "
+        "acceleration); a homogeneous field gives one value for all samples and IMUs. "
+        "'sphere': after removing a least-squares hard-iron offset.\n"
+    )
+    md.append("| IMU | ‖m‖ p5 / p95 ÷ median, raw | sphere | dip median (p5 … p95) °, raw | sphere |")
+    md.append("|---|---|---|---|---|")
     for seg, m in out["magnetometer"].items():
-        md.append(
-            f"| {seg} | {m['norm_p5_rel']:.2f} / {m['norm_p95_rel']:.2f} | "
-            f"{m['dip_median_deg']:.0f} ({m['dip_p5_deg']:.0f} … {m['dip_p95_deg']:.0f}) |"
-        )
+        cells = [f"{m[f'{t}_norm_p5_rel']:.2f} / {m[f'{t}_norm_p95_rel']:.2f}" for t in ("raw", "sphere")]
+        cells += [
+            f"{m[f'{t}_dip_median_deg']:.0f} ({m[f'{t}_dip_p5_deg']:.0f} … {m[f'{t}_dip_p95_deg']:.0f})"
+            for t in ("raw", "sphere")
+        ]
+        md.append(f"| {seg} | " + " | ".join(cells) + " |")
     return "\n".join(md) + "\n"
+
+
+def git_state() -> str:
+    """``git describe --always --dirty`` of the checkout, or ``"unknown"``."""
+    import subprocess
+
+    try:
+        r = subprocess.run(
+            ["git", "describe", "--always", "--dirty"],
+            cwd=Path(__file__).parent, capture_output=True, text=True, check=True,
+        )  # fmt: skip
+        return r.stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
 
 
 def main() -> None:
@@ -444,7 +504,7 @@ def main() -> None:
         raise SystemExit(f"no ring/ folder in {args.data}; pass --data pointing at the data folder")
     omc = load_omc_quats(ring / "trial1_omc.csv")
     imus = {rec: load_imu(ring / f"trial1_imu_{rec}.csv") for rec in ("rigid", "nonrigid")}
-    out: dict[str, Any] = {"time_offset": {}, "recordings": {}}
+    out: dict[str, Any] = {"git": git_state(), "time_offset": {}, "recordings": {}}
     for rec, imu in imus.items():
         lag = time_offset(imu, omc)
         out["time_offset"][rec] = lag
