@@ -24,6 +24,7 @@ from .calibration import LegCalibration, calibrate_leg
 from .conventions import SENSORS, FloatArray, quat_from_matrix
 from .errors import InputError
 from .leg_model import LegModel
+from .magnetic import check_magnetic_field
 from .motion import SegmentMotion, track_segments
 from .orientation import estimate_orientation
 from .output import write_angles_csv, write_positions_csv
@@ -36,6 +37,12 @@ S2J_SIDECAR = "s2j.json"
 
 #: CLI method names → calibration methods.
 CLI_METHODS = {"casadi": "casadi", "gn": "gn", "dwpso": "dwpso", "gwo": "gwo"}
+
+
+class MagneticDisturbanceWarning(UserWarning):
+    """The magnetometer was not fused because the field looks disturbed."""
+
+
 #: Filters that use the magnetometer when the trial has one.
 MAG_FILTERS = ("mahony", "ftecf", "madgwick", "quest_kf")
 
@@ -56,6 +63,7 @@ class TrialResult:
         used_mag: whether the magnetometer was fused.
         filter_name: the orientation filter used.
         calibration_reused: the joint calibration came from an earlier trial.
+        magnetometer_note: why the magnetometer was not fused, or ``""``.
     """
 
     trial: ImuTrial
@@ -69,6 +77,7 @@ class TrialResult:
     used_mag: bool = False
     filter_name: str = "mahony"
     calibration_reused: bool = False
+    magnetometer_note: str = ""
 
     @property
     def angles_rad(self) -> FloatArray:
@@ -81,6 +90,8 @@ class TrialResult:
         d["filter"] = self.filter_name
         d["calibration_reused"] = self.calibration_reused
         d["magnetometer_used"] = self.used_mag
+        if self.magnetometer_note:
+            d["magnetometer_rejected"] = self.magnetometer_note
         d["segment_frames"] = {
             seg: {"quat_wxyz_segment_in_sensor": quat_from_matrix(R).tolist()}
             for seg, R in self.motion.frames.R_sensor_segment.items()
@@ -157,6 +168,15 @@ def process_trial(
 
     t0 = time.perf_counter()
     mag = trial.mag if (use_mag and trial.mag is not None and filter_name in MAG_FILTERS) else None
+    mag_check = check_magnetic_field(trial, reference) if mag is not None else None
+    if mag_check is not None and not mag_check.usable:
+        warnings.warn(
+            f"the magnetometer looks disturbed ({mag_check.reason}); fusing gyro and accelerometer "
+            f"only (the joints keep the headings consistent); pass --no-mag to silence this",
+            MagneticDisturbanceWarning,
+            stacklevel=2,
+        )
+        mag = None
     quats = {
         s: estimate_orientation(
             trial.gyr[s],
@@ -191,7 +211,7 @@ def process_trial(
     else:
         positions = chain_positions(model, motion.angles_rad, s2j.predict(motion.angles_rad))
     step("forward kinematics", t0)
-    return TrialResult(
+    result = TrialResult(
         trial,
         calib,
         quats,
@@ -204,6 +224,8 @@ def process_trial(
         filter_name,
         calibration is not None,
     )
+    result.magnetometer_note = "" if mag_check is None else mag_check.reason
+    return result
 
 
 def write_outputs(

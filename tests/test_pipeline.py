@@ -154,3 +154,29 @@ def test_reusing_a_rich_calibration_fixes_a_poorly_excited_trial(tmp_path, capsy
         == 2
     )
     assert "left leg" in capsys.readouterr().err and not (tmp_path / "x").exists()
+
+
+def test_disturbed_magnetometer_is_ignored_with_a_warning():
+    """A magnet near the shank bends its field: the pipeline falls back to 6-axis fusion and says so."""
+    import warnings as w
+
+    from lowerlimb.magnetic import check_magnetic_field
+    from lowerlimb.pipeline import MagneticDisturbanceWarning, process_trial
+    from lowerlimb.trial import ImuTrial
+
+    sim = cached_simulation("walk", 20.0, 33)
+    assert check_magnetic_field(sim.trial).usable
+    t = sim.trial
+    mag = {k: v.copy() for k, v in t.mag.items()}
+    n = len(t.time_s)
+    mag["shank"] += np.outer(40.0 * np.clip(np.sin(np.linspace(0, 9, n)), 0, None), [1.0, 0.3, 0.0])
+    disturbed = ImuTrial(t.time_s, t.acc, t.gyr, mag, t.side)
+    check = check_magnetic_field(disturbed)
+    assert not check.usable and "shank" in check.reason
+    with w.catch_warnings(record=True) as caught:
+        w.simplefilter("always")
+        res = process_trial(disturbed)
+    assert any(issubclass(c.category, MagneticDisturbanceWarning) for c in caught)
+    assert res.used_mag is False and "shank" in res.calibration_dict()["magnetometer_rejected"]
+    rmse = np.rad2deg(np.sqrt(np.mean((res.angles_rad - sim.angles_rad) ** 2, axis=0)))
+    assert rmse.max() < 3.0
