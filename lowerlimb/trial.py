@@ -28,6 +28,8 @@ from .errors import (
 )
 from .stillness import initial_still_samples
 
+#: Lowest sampling rate accepted, Hz: below it the time column is taken to be in ms.
+MIN_RATE_HZ = 5.0
 #: Shortest trial accepted, s.
 MIN_DURATION_S = 2.0
 #: A gyro whose largest angular-rate norm exceeds this (rad/s ≈ 2000 °/s, the
@@ -131,6 +133,13 @@ class ImuTrial:
                 f"({t[k]:.6g} s then {t[k + 1]:.6g} s); sort the rows and drop duplicates"
             )
         med = float(np.median(dt))
+        if med > 1.0 / MIN_RATE_HZ:
+            raise UnitError(
+                "time",
+                med,
+                f"time steps of {med:.4g} look like milliseconds (a rate of {1.0 / med:.3g} Hz); "
+                f"the trial format expects seconds (divide the time column by 1000)",
+            )
         if np.max(np.abs(dt - med)) > TIME_JITTER_TOLERANCE * med:
             raise TimeAxisError(
                 f"time steps vary from {dt.min():.4g} s to {dt.max():.4g} s (median {med:.4g} s); "

@@ -135,3 +135,13 @@ def test_no_standing_start_warns_once():
     with pytest.warns(StandingStartWarning, match="first second is taken as the angle reference"):
         ref = cut.reference_samples()
     assert ref == slice(0, 100)
+
+
+def test_time_in_milliseconds(tmp_path):
+    def ms(h, d):
+        d = d.copy()
+        d[:, 0] *= 1000.0
+        return h, d
+
+    with pytest.raises(UnitError, match=r"look like milliseconds.*divide the time column by 1000"):
+        ImuTrial.from_csv(_write(tmp_path, _trial(), ms))
