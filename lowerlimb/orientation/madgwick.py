@@ -9,13 +9,31 @@ turned north, ``s`` = normalised magnetometer)::
 
     q̇ = ½ q ⊗ (0, ω) − β ∇f / ‖∇f‖,   ∇f = Jᵀ f   (Madgwick 2011, eq. 25–34, 43–44)
 
-Choices: the reference field points north along ENU +y (Madgwick's report uses
-north = x); the gyro part is integrated exactly, ``q ⊗ exp(½ ω Δt)`` (the
-original's first-order Euler step loses θ³/12 per sample, 1° per 20 s at
-8 rad/s and 200 Hz), the gradient is evaluated at that gyro prediction (the
-orientation of the accelerometer's own sample time, rather than the previous
-estimate), then the step is added and the result renormalised; no gyro-bias
-drift term (the bias from the still start is
+Addition to the paper (parameter ``acc_lowpass_s``, on by default):
+
+* **Accelerometer low-pass in the earth frame**, as in
+  :mod:`~lowerlimb.orientation.mahony` and VQF (Laidig & Seel 2023). Before
+  the gradient is evaluated, the specific force is rotated into the earth
+  frame with the gyro prediction, low-pass filtered there (first order, time
+  constant ``acc_lowpass_s``) and rotated back; this vector, normalised, is
+  the ``s`` of the gravity term. The linear accelerations of a limb average
+  out in the earth frame (their integral is a velocity change) while gravity
+  does not, so the gradient no longer follows the shank's and foot's
+  accelerations of several g during walking. The step remains the paper's
+  normalised gradient step of length ``β Δt``. ``acc_lowpass_s = 0`` gives
+  the original filter. Benchmarks (``benchmarks/results/orientation.md``,
+  ``pipeline_accuracy.py --filters madgwick``): with the low-pass and
+  ``β = 0.007`` the mean total RMSE on BROAD drops from 2.48° to 2.30°
+  (9-axis) and the leg pipeline's joint angles on a simulated walk from
+  2–4° to below 1°.
+
+Other choices: the reference field points north along ENU +y (Madgwick's
+report uses north = x); the gyro part is integrated exactly,
+``q ⊗ exp(½ ω Δt)`` (the original's first-order Euler step loses θ³/12 per
+sample, 1° per 20 s at 8 rad/s and 200 Hz), the gradient is evaluated at that
+gyro prediction (the orientation of the accelerometer's own sample time,
+rather than the previous estimate), then the step is added and the result
+renormalised; no gyro-bias drift term (the bias from the still start is
 removed by :func:`lowerlimb.orientation.estimate_orientation`).
 """
 
@@ -44,11 +62,18 @@ FloatArray = NDArray[np.float64]
 
 @dataclass(frozen=True)
 class MadgwickParams:
-    """Gain of the gradient-descent filter (default chosen by ``benchmarks/tune_orientation.py``).
+    """Parameters of the gradient-descent filter.
+
+    Defaults: a grid search on the cost of ``benchmarks/tune_orientation.py``
+    (BROAD and simulated trials, 9- and 6-axis), checked on the leg pipeline
+    (``benchmarks/pipeline_accuracy.py``).
 
     Attributes:
         beta: Gradient step rate β, rad/s (Madgwick's "gyroscope measurement
             error"); the correction rate of a wrong attitude is at most β.
+        acc_lowpass_s: Time constant of the earth-frame accelerometer low-pass
+            (an addition to the paper, see the module docstring), s; 0 uses
+            each accelerometer sample as it is (the original filter).
     """
 
     beta: float = 0.007

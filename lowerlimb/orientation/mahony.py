@@ -52,11 +52,11 @@ from lowerlimb.orientation._filter_inputs import loop_inputs, magnetic_reference
 from lowerlimb.orientation._magnetic_nb import mag_heading_error
 from lowerlimb.orientation._quaternion_nb import (
     cross,
+    earth_lowpass,
     norm3,
     put_quat,
     qintegrate,
     rotate_to_earth,
-    rotate_to_sensor,
     up_in_sensor,
 )
 from lowerlimb.orientation.initialisation import InitialState
@@ -139,11 +139,7 @@ def _mahony_loop(
         vx, vy, vz = up_in_sensor(w, x, y, z)  # eq. 45-46
         ax, ay, az = acc[i, 0], acc[i, 1], acc[i, 2]
         if acc_tau > 0.0:
-            fx, fy, fz = rotate_to_earth(w, x, y, z, ax, ay, az)
-            lx += k_lp * (fx - lx)
-            ly += k_lp * (fy - ly)
-            lz += k_lp * (fz - lz)
-            ax, ay, az = rotate_to_sensor(w, x, y, z, lx, ly, lz)
+            lx, ly, lz, ax, ay, az = earth_lowpass(w, x, y, z, ax, ay, az, lx, ly, lz, k_lp)
         an = norm3(ax, ay, az)
         if an > 0.0:
             ex, ey, ez = cross(ax / an, ay / an, az / an, vx, vy, vz)  # eq. 47 (corrected)
