@@ -78,6 +78,24 @@ def rotate_to_sensor(w: float, x: float, y: float, z: float, vx: float, vy: floa
 
 
 @njit(cache=True, inline="always")
+def earth_lowpass_start(
+    dt: float, tau: float, w: float, x: float, y: float, z: float, acc: NDArray[np.float64]
+) -> tuple[float, float, float, float]:
+    """Gain ``k = dt / (tau + dt)`` and the initial state of :func:`earth_lowpass`.
+
+    The state starts at the first accelerometer sample rotated into the earth
+    frame by the initial attitude ``q``; (0, 0, 0) for an empty record.
+    """
+    k = dt / (tau + dt)
+    lx = 0.0
+    ly = 0.0
+    lz = 0.0
+    if acc.shape[0] > 0:
+        lx, ly, lz = rotate_to_earth(w, x, y, z, acc[0, 0], acc[0, 1], acc[0, 2])
+    return k, lx, ly, lz
+
+
+@njit(cache=True, inline="always")
 def earth_lowpass(
     w: float,
     x: float,

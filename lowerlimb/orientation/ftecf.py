@@ -64,11 +64,11 @@ from numpy.typing import NDArray
 from lowerlimb.orientation._filter_inputs import loop_inputs, magnetic_reference
 from lowerlimb.orientation._quaternion_nb import (
     earth_lowpass,
+    earth_lowpass_start,
     norm3,
     put_quat,
     qintegrate,
     qnormalize,
-    rotate_to_earth,
 )
 from lowerlimb.orientation._wahba_pairs_nb import hemisphere_sign, measure_pairs, reference_pairs
 from lowerlimb.orientation.esoq2 import esoq2_kernel
@@ -146,12 +146,7 @@ def _ftecf_loop(
     out = np.empty((n, 4))
     w, x, y, z = q0[0], q0[1], q0[2], q0[3]
     b, r, wts = reference_pairs(use_mag, mag_dip_ref, mag_weight)
-    k_lp = dt / (acc_tau + dt)
-    lx = 0.0
-    ly = 0.0
-    lz = 0.0
-    if n > 0:
-        lx, ly, lz = rotate_to_earth(w, x, y, z, acc[0, 0], acc[0, 1], acc[0, 2])
+    k_lp, lx, ly, lz = earth_lowpass_start(dt, acc_tau, w, x, y, z, acc)
     # the accelerometer samples ESOQ-2 sees: low-passed in the earth frame, or as measured
     acc_in = acc.copy() if acc_tau > 0.0 else acc
     for i in range(n):

@@ -49,6 +49,7 @@ from numpy.typing import NDArray
 from lowerlimb.orientation._filter_inputs import loop_inputs
 from lowerlimb.orientation._quaternion_nb import (
     earth_lowpass,
+    earth_lowpass_start,
     norm3,
     put_quat,
     qintegrate,
@@ -134,12 +135,7 @@ def _madgwick_loop(
     n = gyr.shape[0]
     out = np.empty((n, 4))
     w, x, y, z = q0[0], q0[1], q0[2], q0[3]
-    k_lp = dt / (acc_tau + dt)
-    lx = 0.0
-    ly = 0.0
-    lz = 0.0
-    if n > 0:
-        lx, ly, lz = rotate_to_earth(w, x, y, z, acc[0, 0], acc[0, 1], acc[0, 2])
+    k_lp, lx, ly, lz = earth_lowpass_start(dt, acc_tau, w, x, y, z, acc)
     for i in range(n):
         # eq. 43, integrated exactly over the sample
         pw, px, py, pz = qintegrate(w, x, y, z, gyr[i, 0], gyr[i, 1], gyr[i, 2], dt)

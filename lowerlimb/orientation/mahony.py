@@ -53,10 +53,10 @@ from lowerlimb.orientation._magnetic_nb import mag_heading_error
 from lowerlimb.orientation._quaternion_nb import (
     cross,
     earth_lowpass,
+    earth_lowpass_start,
     norm3,
     put_quat,
     qintegrate,
-    rotate_to_earth,
     up_in_sensor,
 )
 from lowerlimb.orientation.initialisation import InitialState
@@ -122,12 +122,7 @@ def _mahony_loop(
     ix = 0.0
     iy = 0.0
     iz = 0.0
-    k_lp = dt / (acc_tau + dt)
-    lx = 0.0
-    ly = 0.0
-    lz = 0.0
-    if n > 0:
-        lx, ly, lz = rotate_to_earth(w, x, y, z, acc[0, 0], acc[0, 1], acc[0, 2])
+    k_lp, lx, ly, lz = earth_lowpass_start(dt, acc_tau, w, x, y, z, acc)
     for i in range(n):
         # eq. 49-50, gyro part: integrate the rate corrected by the integral (bias) term
         w, x, y, z = qintegrate(
