@@ -360,8 +360,16 @@ def _read_s2j(path: Path) -> S2JModel:
     if not path.is_file():
         raise FileNotFoundError(f"S2J model not found: {path}")
     try:
-        return S2JModel.from_dict(json.loads(path.read_text(encoding="utf-8")))
-    except (ValueError, KeyError, TypeError) as e:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except ValueError as e:
+        raise InputError(
+            f"{path} is not JSON ({_first_line(e)}); give an S2J model written by S2JModel.to_dict()"
+        ) from None
+    try:
+        return S2JModel.from_dict(data)
+    except InputError as e:
+        raise InputError(f"{path}: {e}") from None
+    except (KeyError, TypeError) as e:
         raise InputError(
             f"{path} is not a lowerlimb S2J model ({e}); write one with S2JModel.to_dict()"
         ) from None
