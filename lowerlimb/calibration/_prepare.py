@@ -10,7 +10,7 @@ from numpy.typing import ArrayLike
 
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.constraints.angular_acceleration import angular_acceleration, window_length
-from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass
+from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass, rigid_band_hz
 from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError, NonFiniteValueError, ShapeError, UnitError
@@ -123,6 +123,9 @@ def prepare_signals(
     gyr: Mapping[str, FloatArray],
     rate_hz: float,
     options: CalibrationOptions,
+    *,
+    n_still: int | None = None,
+    cap_hz: Mapping[str, float | None] | None = None,
 ) -> PreparedSignals:
     """Remove the gyro bias of a still start, low-pass (adaptively) and differentiate the gyros.
 
@@ -131,15 +134,19 @@ def prepare_signals(
         gyr: ``{sensor: (N, 3)}`` checked gyro signals, rad/s.
         rate_hz: sampling rate, Hz.
         options: calibration options (window, bias removal).
+        n_still: still samples at the start when already detected (``None``: detect here).
+        cap_hz: ``{sensor: Hz or None}`` upper limits of the cut-offs (the rigid
+            band, :func:`rigid_band_cap_hz`; ``None``: no limit).
 
     Returns:
         The prepared signals.
     """
-    n_still = 0
-    if options.remove_gyro_bias:
-        n_still = initial_still_samples(
-            list(gyr.values()), list(acc.values()), rate_hz, min_duration_s=options.still_min_s
-        )
+    if n_still is None:
+        n_still = 0
+        if options.remove_gyro_bias:
+            n_still = initial_still_samples(
+                list(gyr.values()), list(acc.values()), rate_hz, min_duration_s=options.still_min_s
+            )
     bias = {k: gyro_bias(g, n_still) for k, g in gyr.items()}
     gyr_c = {k: g - bias[k] for k, g in gyr.items()}
     noise: dict[str, float | None] = {
@@ -159,6 +166,9 @@ def prepare_signals(
                 factor=options.cutoff_factor,
                 min_hz=options.min_cutoff_hz,
             )
+    for k, cap in (cap_hz or {}).items():
+        if cap is not None and (cutoff[k] is None or cutoff[k] > cap):  # type: ignore[operator]
+            cutoff[k] = cap
     gyr_c = {k: lowpass(g, rate_hz, cutoff[k]) for k, g in gyr_c.items()}
     acc_f = {k: lowpass(a, rate_hz, cutoff.get(k)) for k, a in acc.items()}
     angacc = {
@@ -168,6 +178,83 @@ def prepare_signals(
         for k, g in gyr_c.items()
     }
     return PreparedSignals(rate_hz, acc_f, gyr_c, angacc, bias, n_still, cutoff, noise)
+
+
+def rigid_band_cap_hz(
+    acc_parent: FloatArray, acc_child: FloatArray, rate_hz: float, options: CalibrationOptions
+) -> float | None:
+    """The cut-off cap of one joint from its rigid band (``None``: no cap), Hz."""
+    if not (options.prefilter and options.rigid_band) or options.cutoff_hz is not None:
+        return None
+    band = rigid_band_hz(acc_parent, acc_child, rate_hz, threshold=options.rigid_band_coherence)
+    if band is None:
+        return None
+    cap = max(options.rigid_band_min_hz, options.rigid_band_factor * band)
+    return cap if cap < 0.45 * rate_hz else None
+
+
+def _exceeds(cutoff: float | None, cap: float | None, options: CalibrationOptions) -> bool:
+    """Whether a sensor's cut-off reaches far enough above the rigid band to be capped.
+
+    A sensor whose noise-based bandwidth lies within ``rigid_band_trigger`` times
+    the band is limited by its own slow motion (a slow trial, little power
+    where the coherence is measured) and keeps its cut-off; one that reaches
+    far above it carries broadband incoherent content (wobble, impacts).
+    """
+    if cap is None:
+        return False
+    return cutoff is None or cutoff > options.rigid_band_trigger * cap
+
+
+def joint_signals(
+    acc: Mapping[str, FloatArray],
+    gyr: Mapping[str, FloatArray],
+    sig: PreparedSignals,
+    parent: str,
+    child: str,
+    options: CalibrationOptions,
+    caps: dict[str, float | None] | None = None,
+    cap_hz: float | None = None,
+    *,
+    own_band: bool = True,
+) -> SphericalData:
+    """One joint's pair data, re-filtered where a sensor's rigid-band cap is below its cut-off.
+
+    Args:
+        acc: ``{sensor: (N, 3)}`` raw accelerometer signals, m/s².
+        gyr: ``{sensor: (N, 3)}`` raw gyro signals, rad/s.
+        sig: the signals prepared for every sensor (still period, adaptive cut-offs).
+        parent: parent sensor name.
+        child: child sensor name.
+        options: calibration options.
+        caps: when given, receives the cap under the key ``f"{parent}-{child}"``,
+            Hz or ``None`` (for the record).
+        cap_hz: a cap decided by the caller, Hz, used with (the lower of the two)
+            or instead of the pair's own rigid band.
+        own_band: also compute the pair's own rigid band. A hinge sets it
+            ``False``: its accelerometer norms need not agree, and it takes
+            the caps of its neighbouring spherical joints instead.
+
+    Returns:
+        The pair data.
+    """
+    own = rigid_band_cap_hz(acc[parent], acc[child], sig.rate_hz, options) if own_band else None
+    given = [c for c in (own, cap_hz) if c is not None]
+    cap = min(given) if given else None
+    if caps is not None:
+        caps[f"{parent}-{child}"] = cap
+    capped = {k: cap for k in (parent, child) if _exceeds(sig.cutoff_hz[k], cap, options)}
+    if not capped:
+        return pair_data(sig, parent, child)
+    sub = prepare_signals(
+        {k: acc[k] for k in (parent, child)},
+        {k: gyr[k] for k in (parent, child)},
+        sig.rate_hz,
+        options,
+        n_still=sig.n_still,
+        cap_hz=capped,
+    )
+    return pair_data(sub, parent, child)
 
 
 def pair_data(sig: PreparedSignals, parent: str = "p", child: str = "c") -> SphericalData:
@@ -189,8 +276,15 @@ def prepare_pair(
     gyr_child: ArrayLike,
     rate_hz: float,
     options: CalibrationOptions,
+    *,
+    rigid_band: bool = False,
 ) -> tuple[PreparedSignals, SphericalData]:
     """Check the four signals of a sensor pair and prepare them (sensors ``"p"`` and ``"c"``).
+
+    ``rigid_band`` caps the cut-offs at the pair's rigid band (off by default:
+    the coherence of the accelerometer norms is a proxy made for the leg's
+    gait-like motion, checked there; an arbitrary pair's motion can make the
+    norms incoherent although the chain is rigid).
 
     Returns:
         The prepared signals (``rate_hz`` checked) and the pair's :class:`SphericalData`.
@@ -208,5 +302,6 @@ def prepare_pair(
     ac = check_signal(acc_child, "acc_child", "m/s²", n)
     wc = check_signal(gyr_child, "gyr_child", "rad/s", n)
     check_duration(n, rate, options)
-    sig = prepare_signals({"p": ap, "c": ac}, {"p": wp, "c": wc}, rate, options)
-    return sig, pair_data(sig)
+    acc, gyr = {"p": ap, "c": ac}, {"p": wp, "c": wc}
+    sig = prepare_signals(acc, gyr, rate, options)
+    return sig, joint_signals(acc, gyr, sig, "p", "c", options, own_band=rigid_band)

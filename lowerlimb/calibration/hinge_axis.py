@@ -72,6 +72,7 @@ from lowerlimb.constraints.hinge import (
     hinge_residual_population,
     hinge_sample_function,
 )
+from lowerlimb.constraints.prefilter import lowpass
 from lowerlimb.constraints.spherical import SphericalData, joint_acceleration
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError
@@ -178,6 +179,54 @@ def hinge_angle(
     rate = gyr_child @ np.asarray(axis_child) - gyr_parent @ np.asarray(axis_parent)
     q = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]))]) / rate_hz
     return np.asarray(q, dtype=float)
+
+
+def flexion_sign_margin(
+    axis_parent: FloatArray,
+    axis_child: FloatArray,
+    gyr_parent: FloatArray,
+    gyr_child: FloatArray,
+    rate_hz: float,
+    n_still: int = 0,
+    *,
+    drift_hz: float = 0.1,
+) -> float:
+    """How clearly the axes' sign makes flexion the dominant excursion (> 0: keep, < 0: flip), rad.
+
+    Flexion ``f = −(q − q0)`` from the standing start mostly rises: its 99th
+    percentile outweighs its 1st. Over a long trial ``q`` drifts with the gyro
+    bias, and a turn leaks into it when the two axes are not exactly the same
+    physical line (a 180° turn with a 5° axis error moves q by about 16°). So the
+    test is also made on the angle with its slow part removed (zero-phase
+    high-pass at ``drift_hz``), in which a flexing joint still shows larger
+    positive than negative excursions about its running mean, and the more
+    decisive of the two tests (margin over the angle's range) decides.
+
+    Args:
+        axis_parent: (3,) unit axis, parent frame.
+        axis_child: (3,) unit axis, child frame, same physical direction.
+        gyr_parent: (N, 3) parent gyro, rad/s.
+        gyr_child: (N, 3) child gyro, rad/s.
+        rate_hz: sampling rate, Hz.
+        n_still: still samples at the start (the angle reference).
+        drift_hz: cut-off of the drift removal, Hz.
+
+    Returns:
+        The signed margin ``p99 + p1`` of the deciding test, rad.
+    """
+    q = hinge_angle(axis_parent, axis_child, gyr_parent, gyr_child, rate_hz)
+    f = -(q - float(np.mean(q[: max(n_still, 1)])))
+    tests = [f]
+    if f.shape[0] - n_still > rate_hz / drift_hz:
+        moving = f[n_still:]
+        tests.append(moving - lowpass(moving, rate_hz, drift_hz, order=2))
+    best, best_score = 0.0, -1.0
+    for x in tests:
+        hi, lo = float(np.percentile(x, 99)), float(np.percentile(x, 1))
+        score = abs(hi + lo) / max(hi - lo, 1e-12)
+        if score > best_score:
+            best, best_score = hi + lo, score
+    return best
 
 
 def relative_sign_coherence(
@@ -342,13 +391,10 @@ def fit_hinge_axis(
             f"{coh_flip:.2f}); the {child_sensor} axis may point the opposite way"
         )
     # 2. overall sign: flexion f = −(q − q0) mostly positive
-    q = hinge_angle(jp, jc, wp, wc, rate_hz)
-    q0 = float(np.mean(q[: max(n_still, 1)]))
-    f = -(q - q0)
-    hi, lo = float(np.percentile(f, 99)), float(np.percentile(f, 1))
-    if hi < -lo:
+    margin = flexion_sign_margin(jp, jc, wp, wc, rate_hz, n_still)
+    if margin < 0:
         jp, jc = -jp, -jc
-    margin = abs(hi + lo)
+    margin = abs(margin)
 
     # diagnostics in a basis centred on the solution (x = 0)
     Qp, Qc = basis_with_first_axis(jp), basis_with_first_axis(jc)

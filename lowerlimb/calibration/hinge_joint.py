@@ -123,7 +123,7 @@ def calibrate_hinge_joint(
     """
     opts = options or CalibrationOptions()
     check_method(method)
-    sig, data = prepare_pair(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, opts)
+    sig, data = prepare_pair(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, opts, rigid_band=False)
     return fit_hinge_joint(
         data,
         rate_hz=sig.rate_hz,

@@ -29,7 +29,7 @@ from lowerlimb.calibration._prepare import (
     check_duration,
     check_rate,
     check_signal,
-    pair_data,
+    joint_signals,
     prepare_signals,
 )
 from lowerlimb.calibration.hinge_joint import fit_hinge_joint
@@ -68,6 +68,8 @@ class LegCalibration:
         gyro_bias: ``{sensor: (3,)}`` gyro bias removed, rad/s.
         still_s: length of the still start used for the bias, s (0: none found).
         cutoff_hz: ``{sensor: Hz or None}`` prefilter cut-offs.
+        rigid_band_cap_hz: ``{"parent-child": Hz or None}`` the cap the rigid band
+            of each joint's sensor pair put on its cut-offs (``None``: no cap).
     """
 
     side: str
@@ -79,6 +81,7 @@ class LegCalibration:
     gyro_bias: dict[str, FloatArray] = field(default_factory=dict)
     still_s: float = 0.0
     cutoff_hz: dict[str, float | None] = field(default_factory=dict)
+    rigid_band_cap_hz: dict[str, float | None] = field(default_factory=dict)
 
     @property
     def joints(self) -> dict[str, SphericalJointCalibration | HingeJointCalibration]:
@@ -101,6 +104,9 @@ class LegCalibration:
             "gyro_bias_rps": {k: [float(x) for x in v] for k, v in self.gyro_bias.items()},
             "still_period_s": float(self.still_s),
             "prefilter_cutoff_hz": {k: (None if v is None else float(v)) for k, v in self.cutoff_hz.items()},
+            "rigid_band_cap_hz": {
+                k: (None if v is None else float(v)) for k, v in self.rigid_band_cap_hz.items()
+            },
             "warnings": self.warnings,
         }
 
@@ -128,6 +134,7 @@ class LegCalibration:
                 gyro_bias={k: np.asarray(v, dtype=float) for k, v in d.get("gyro_bias_rps", {}).items()},
                 still_s=float(d.get("still_period_s", 0.0)),
                 cutoff_hz=dict(d.get("prefilter_cutoff_hz", {})),
+                rigid_band_cap_hz=dict(d.get("rigid_band_cap_hz", {})),
             )
         except KeyError as e:
             raise InputError(f"calibration document lacks the key {e.args[0]!r}") from None
@@ -184,13 +191,19 @@ def calibrate_leg(
     t0 = time.perf_counter()
     sig = prepare_signals(acc, gyr, rate, opts)
 
+    caps: dict[str, float | None] = {}
     p, c, _ = JOINT_SENSORS["hip"]
-    hip = fit_spherical(
-        pair_data(sig, p, c), method=method, options=opts, joint="hip", parent_sensor=p, child_sensor=c
+    data = joint_signals(acc, gyr, sig, p, c, opts, caps)
+    hip = fit_spherical(data, method=method, options=opts, joint="hip", parent_sensor=p, child_sensor=c)
+    p, c, _ = JOINT_SENSORS["ankle"]
+    ankle_data = joint_signals(acc, gyr, sig, p, c, opts, caps)
+    ankle = fit_spherical(
+        ankle_data, method=method, options=opts, joint="ankle", parent_sensor=p, child_sensor=c
     )
+    near = [v for v in caps.values() if v is not None]
     p, c, _ = JOINT_SENSORS["knee"]
     knee = fit_hinge_joint(
-        pair_data(sig, p, c),
+        joint_signals(acc, gyr, sig, p, c, opts, caps, min(near) if near else None, own_band=False),
         rate_hz=rate,
         method=method,
         options=opts,
@@ -198,10 +211,6 @@ def calibrate_leg(
         joint="knee",
         parent_sensor=p,
         child_sensor=c,
-    )
-    p, c, _ = JOINT_SENSORS["ankle"]
-    ankle = fit_spherical(
-        pair_data(sig, p, c), method=method, options=opts, joint="ankle", parent_sensor=p, child_sensor=c
     )
     runtime = time.perf_counter() - t0
     return LegCalibration(
@@ -214,4 +223,5 @@ def calibrate_leg(
         gyro_bias=sig.gyro_bias,
         still_s=sig.n_still / rate,
         cutoff_hz=sig.cutoff_hz,
+        rigid_band_cap_hz=caps,
     )

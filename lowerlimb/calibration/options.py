@@ -38,6 +38,16 @@ class CalibrationOptions:
             on simulated walking among 1.25–3; see benchmarks/calibration_accuracy.py
             ``--option cutoff_factor=…``).
         min_cutoff_hz: lowest adaptive cut-off, Hz.
+        rigid_band: cap each joint's cut-off at the band in which its two sensors
+            are coherent (:func:`~lowerlimb.constraints.prefilter.rigid_band_hz`):
+            soft-tissue wobble, strap resonance and impact ringing of real
+            thigh and shank sensors lie above it and break the rigid-body
+            constraint.
+        rigid_band_coherence: coherence below which the band ends (0–1).
+        rigid_band_factor: cap = factor × band edge.
+        rigid_band_min_hz: lowest cap, Hz.
+        rigid_band_trigger: a sensor is capped only when its adaptive cut-off
+            exceeds this multiple of the cap (else its own slow motion limits it).
         angacc_window_s: Savitzky–Golay window of the gyro derivative, s.
         angacc_polyorder: Savitzky–Golay polynomial order.
         remove_gyro_bias: subtract the mean gyro of a still period detected at the
@@ -74,6 +84,11 @@ class CalibrationOptions:
     cutoff_hz: float | None = None
     cutoff_factor: float = 1.5
     min_cutoff_hz: float = 2.5
+    rigid_band: bool = True
+    rigid_band_coherence: float = 0.3
+    rigid_band_factor: float = 1.0
+    rigid_band_min_hz: float = 2.0
+    rigid_band_trigger: float = 3.0
     angacc_window_s: float = DEFAULT_WINDOW_S
     angacc_polyorder: int = DEFAULT_POLYORDER
     remove_gyro_bias: bool = True

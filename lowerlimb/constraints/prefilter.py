@@ -29,12 +29,12 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.signal import butter, sosfiltfilt, welch
+from scipy.signal import butter, coherence, sosfiltfilt, welch
 
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError
 
-__all__ = ["motion_bandwidth_hz", "adaptive_cutoff_hz", "lowpass"]
+__all__ = ["motion_bandwidth_hz", "adaptive_cutoff_hz", "rigid_band_hz", "lowpass"]
 
 _NYQUIST_FRACTION = 0.45
 _SEGMENT_S = 5.12
@@ -95,6 +95,63 @@ def adaptive_cutoff_hz(
     """
     fc = max(min_hz, factor * motion_bandwidth_hz(gyr, rate_hz, noise_std=noise_std, snr=snr))
     return None if fc >= _NYQUIST_FRACTION * rate_hz else float(fc)
+
+
+def rigid_band_hz(
+    acc_parent: ArrayLike,
+    acc_child: ArrayLike,
+    rate_hz: float,
+    *,
+    threshold: float = 0.3,
+    segment_s: float = 1.28,
+    start_hz: float = 1.0,
+    power_db: float = -15.0,
+) -> float | None:
+    """Upper edge of the band in which two sensors of one joint move as a rigid chain.
+
+    Both sensors see the joint centre's acceleration, so the parts of their
+    signals that come from the segments' motion are coherent, while soft-tissue
+    wobble, strap resonance and impact ringing of each sensor are not. The
+    magnitude-squared coherence of the two accelerometer norms (rotation
+    invariant; Welch segments of ``segment_s``, smoothed over three bins) is
+    followed upwards from ``start_hz``; the band ends at the first frequency
+    where it falls below ``threshold`` while either signal still carries
+    power (within ``power_db`` of its spectral peak): an incoherent bin with
+    next to no power is harmless and is skipped. On clean rigid motion the
+    band reaches the motion bandwidth; on real thigh and shank sensors it ends
+    a few hertz above the stride harmonics.
+
+    Args:
+        acc_parent: (N, 3) parent accelerometer, parent sensor frame, m/s².
+        acc_child: (N, 3) child accelerometer, child sensor frame, m/s².
+        rate_hz: sampling rate, Hz.
+        threshold: coherence (0–1) below which the chain is no longer rigid.
+        segment_s: Welch segment length, s (sets the frequency resolution).
+        start_hz: lowest frequency inspected, Hz (below it the stride
+            fundamental and slow posture changes dominate).
+        power_db: a bin counts when either norm's power is within this many dB
+            of that norm's peak.
+
+    Returns:
+        The band edge, Hz, or ``None`` when the recording is too short to tell
+        or the coherence never falls below ``threshold``.
+    """
+    a = np.linalg.norm(np.asarray(acc_parent, dtype=float), axis=1)
+    b = np.linalg.norm(np.asarray(acc_child, dtype=float), axis=1)
+    nper = int(round(segment_s * rate_hz))
+    if a.shape[0] < 4 * nper or nper < 8:
+        return None
+    a, b = a - a.mean(), b - b.mean()
+    f, C = coherence(a, b, fs=rate_hz, nperseg=nper)
+    smooth = np.convolve(np.nan_to_num(C), np.ones(3) / 3.0, mode="same")
+    level = 10.0 ** (power_db / 10.0)
+    strong = np.zeros(f.shape, dtype=bool)
+    for x in (a, b):
+        P = np.asarray(welch(x, fs=rate_hz, nperseg=nper)[1], dtype=float)
+        strong |= P >= level * max(float(P.max()), 1e-30)
+    start = int(np.searchsorted(f, start_hz))
+    below = np.flatnonzero((smooth[start:] < threshold) & strong[start:])
+    return float(f[start + below[0]]) if below.size else None
 
 
 def lowpass(x: ArrayLike, rate_hz: float, cutoff_hz: float | None, order: int = 4) -> FloatArray:
