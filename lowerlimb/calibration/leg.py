@@ -162,7 +162,8 @@ def calibrate_leg(
     Raises:
         InputError: a sensor is missing, a signal is malformed (``ShapeError``,
             ``NonFiniteValueError``, ``UnitError``), the trial is too short, the
-            side or the method is unknown.
+            side or the method is unknown, or two sensors' columns look swapped
+            (``SensorOrderError``, :mod:`~lowerlimb.calibration.plausibility`).
         SolverError: a solver failed.
 
     Warns:
@@ -190,6 +191,10 @@ def calibrate_leg(
 
     t0 = time.perf_counter()
     sig = prepare_signals(acc, gyr, rate, opts)
+    if opts.check_sensor_order:
+        from lowerlimb.calibration.plausibility import check_sensor_order
+
+        check_sensor_order(acc, gyr, sig, opts)
 
     caps: dict[str, float | None] = {}
     p, c, _ = JOINT_SENSORS["hip"]

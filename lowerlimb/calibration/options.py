@@ -56,6 +56,8 @@ class CalibrationOptions:
         center_bound_m: search box ``[-b, b]³`` of each joint-centre coordinate, m
             (the swarms sample it; Hu 2021 use 0.2 m, too small for a hip seen
             from a mid-thigh sensor).
+        check_sensor_order: refuse a trial whose thigh/shank or shank/foot columns
+            look swapped (:mod:`~lowerlimb.calibration.plausibility`).
         max_iter: iteration limit of the Gauss–Newton solvers.
         tol: convergence tolerance of the Gauss–Newton solvers (relative step).
         hinge_starts: number of starting axis pairs of the hinge problem (the
@@ -94,6 +96,7 @@ class CalibrationOptions:
     remove_gyro_bias: bool = True
     still_min_s: float = 0.5
     center_bound_m: float = 0.4
+    check_sensor_order: bool = True
     max_iter: int = 50
     tol: float = 1e-7
     hinge_starts: int = 3

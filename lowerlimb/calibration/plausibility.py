@@ -1,0 +1,144 @@
+"""Is the trial what the user said it is? Swapped sensor columns and the wrong ``--side``.
+
+Two mistakes give plausible-looking numbers and exit 0 unless they are caught:
+
+- **Swapped columns** (thigh data under ``shank_*`` and the other way round, or
+  shank and foot). The joint constraints themselves tell: the pelvis and the
+  real thigh share a joint centre, so the spherical residual (Hu 2021 eq. 7)
+  of pelvis–thigh is far below that of pelvis–shank; likewise the thigh and
+  the real shank share the knee, the thigh and the foot share no point. When
+  the alternative pairing fits clearly better (its residual below
+  ``swap_ratio`` times the assumed one), the columns are swapped.
+- **The wrong leg** (a left-leg trial run with ``--side right``). The knee axis
+  is signed by flexion, so it points to the subject's right whatever the side
+  given; in the pelvis segment frame built from it (z to the right), the hip
+  centre of a left leg lies to the left of a pelvis sensor on the sacrum
+  (negative z, about 5–10 cm) and that of a right leg to the right. A lateral
+  offset beyond ``side_min_offset_m`` with the sign of the other side means the
+  side is wrong. A pelvis sensor far off the midline defeats the test, hence
+  ``check_side=False`` (CLI ``--no-side-check``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from lowerlimb.calibration._prepare import PreparedSignals, joint_signals
+from lowerlimb.calibration.joint_center import fit_spherical
+from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.conventions import FloatArray
+from lowerlimb.errors import InputError
+
+__all__ = ["PlausibilityParams", "SensorOrderError", "WrongSideError", "check_sensor_order", "check_side"]
+
+
+@dataclass(frozen=True)
+class PlausibilityParams:
+    """Thresholds of the plausibility checks.
+
+    Attributes:
+        swap_ratio: the alternative pairing's residual must be below this fraction
+            of the assumed pairing's for the columns to count as swapped.
+        side_min_offset_m: lateral hip offset from the pelvis sensor, in the pelvis
+            segment frame, beyond which the side is decided, m.
+    """
+
+    swap_ratio: float = 0.7
+    side_min_offset_m: float = 0.03
+
+
+class SensorOrderError(InputError):
+    """Two sensors' columns look swapped; carries both residuals (m/s²)."""
+
+    def __init__(self, first: str, second: str, assumed_rms: float, swapped_rms: float, joint: str) -> None:
+        self.first, self.second = first, second
+        self.assumed_rms, self.swapped_rms = assumed_rms, swapped_rms
+        super().__init__(
+            f"the {first} and {second} columns look swapped: as given, the {joint} constraint leaves "
+            f"{assumed_rms:.2f} m/s² RMS, with the two sensors exchanged {swapped_rms:.2f} m/s²; "
+            f"exchange the {first}_* and {second}_* columns (or pass --no-order-check if the "
+            f"trial is right)"
+        )
+
+
+class WrongSideError(InputError):
+    """The calibrated geometry belongs to the other leg; carries the lateral offset (m)."""
+
+    def __init__(self, side: str, lateral_m: float) -> None:
+        self.side = side
+        self.lateral_m = lateral_m
+        other = "right" if side == "left" else "left"
+        where = "right" if lateral_m > 0 else "left"
+        super().__init__(
+            f"this looks like a {other} leg, not {side}: the calibrated hip centre lies "
+            f"{abs(lateral_m) * 100:.1f} cm to the {where} of the pelvis sensor; rerun with "
+            f"--side {other} (or pass --no-side-check if the pelvis sensor is not on the sacrum)"
+        )
+
+
+def _residual(
+    acc: Mapping[str, FloatArray],
+    gyr: Mapping[str, FloatArray],
+    sig: PreparedSignals,
+    parent: str,
+    child: str,
+    options: CalibrationOptions,
+) -> float:
+    quiet = replace(options, center_std_tol_m=np.inf, min_rms_rate_rps=0.0)
+    data = joint_signals(acc, gyr, sig, parent, child, quiet)
+    return fit_spherical(data, method="gn", options=quiet).rms_residual
+
+
+def check_sensor_order(
+    acc: Mapping[str, FloatArray],
+    gyr: Mapping[str, FloatArray],
+    sig: PreparedSignals,
+    options: CalibrationOptions,
+    params: PlausibilityParams | None = None,
+) -> None:
+    """Refuse a trial whose thigh/shank or shank/foot columns are swapped (module docstring).
+
+    Args:
+        acc: ``{sensor: (N, 3)}`` raw accelerometers of pelvis, thigh, shank, foot, m/s².
+        gyr: ``{sensor: (N, 3)}`` raw gyros, rad/s.
+        sig: the prepared signals of the four sensors.
+        options: calibration options.
+        params: thresholds (defaults: :class:`PlausibilityParams`).
+
+    Raises:
+        SensorOrderError: naming the two sensors and both residuals.
+    """
+    p = params or PlausibilityParams()
+    for anchor, first, second, joint in (
+        ("pelvis", "thigh", "shank", "hip"),
+        ("thigh", "shank", "foot", "knee"),
+    ):
+        assumed = _residual(acc, gyr, sig, anchor, first, options)
+        swapped = _residual(acc, gyr, sig, anchor, second, options)
+        if swapped < p.swap_ratio * assumed:
+            raise SensorOrderError(first, second, assumed, swapped, joint)
+
+
+def check_side(
+    side: str, hip_from_pelvis_sensor: FloatArray, params: PlausibilityParams | None = None
+) -> None:
+    """Refuse a side contradicted by the calibrated hip position (module docstring).
+
+    Args:
+        side: the side given, ``"left"`` or ``"right"``.
+        hip_from_pelvis_sensor: (3,) hip centre minus pelvis sensor origin, in the
+            pelvis segment frame (ISB: x anterior, y up, z right), m.
+        params: thresholds (defaults: :class:`PlausibilityParams`).
+
+    Raises:
+        WrongSideError: with the lateral offset.
+    """
+    p = params or PlausibilityParams()
+    lateral = float(np.asarray(hip_from_pelvis_sensor, dtype=float)[2])
+    if abs(lateral) < p.side_min_offset_m:
+        return
+    if (lateral > 0) != (side == "right"):
+        raise WrongSideError(side, lateral)

@@ -1,0 +1,66 @@
+"""Swapped sensor columns and the wrong side are refused with one line naming the fix."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from simcache import cached_simulation
+
+from lowerlimb.calibration.leg import calibrate_leg
+from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.calibration.plausibility import (
+    SensorOrderError,
+    WrongSideError,
+    check_side,
+)
+from lowerlimb.errors import InputError
+
+
+def _swapped(a: str, b: str):
+    t = cached_simulation("walk", 30.0, 5).trial
+    acc, gyr = dict(t.acc), dict(t.gyr)
+    acc[a], acc[b] = acc[b], acc[a]
+    gyr[a], gyr[b] = gyr[b], gyr[a]
+    return type(t)(time_s=t.time_s, acc=acc, gyr=gyr, mag=t.mag, side=t.side)
+
+
+@pytest.mark.parametrize("pair", [("thigh", "shank"), ("shank", "foot")])
+def test_swapped_columns_are_refused(pair):
+    trial = _swapped(*pair)
+    with pytest.raises(SensorOrderError) as e:
+        calibrate_leg(trial)
+    assert isinstance(e.value, InputError)
+    assert e.value.swapped_rms < 0.7 * e.value.assumed_rms
+    msg = str(e.value)
+    assert f"{pair[0]} and {pair[1]} columns look swapped" in msg and "\n" not in msg
+
+
+def test_swapped_columns_pass_when_the_check_is_off():
+    trial = _swapped("thigh", "shank")
+    calibrate_leg(trial, options=CalibrationOptions(check_sensor_order=False))
+
+
+def test_the_right_order_passes():
+    cal = calibrate_leg(cached_simulation("walk", 30.0, 5).trial)
+    assert cal.side == "left"
+
+
+@pytest.mark.parametrize(
+    ("side", "lateral", "refused"),
+    [
+        ("left", -0.07, False),
+        ("left", 0.07, True),
+        ("right", 0.07, False),
+        ("right", -0.07, True),
+        ("left", 0.01, False),
+    ],
+)
+def test_side_from_the_hip_offset(side, lateral, refused):
+    v = np.array([0.15, -0.05, lateral])
+    if refused:
+        with pytest.raises(WrongSideError) as e:
+            check_side(side, v)
+        other = "right" if side == "left" else "left"
+        assert f"--side {other}" in str(e.value) and e.value.lateral_m == pytest.approx(lateral)
+    else:
+        check_side(side, v)
