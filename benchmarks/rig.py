@@ -31,6 +31,14 @@ Accuracy:
 - axis error: unsigned angle to the true axis in each frame (a hinge axis has
   no preferred sign), deg.
 
+Diagnosis (second table, ours only, in this process): the centre error under
+variants of the preparation (no prefilter; fixed 5 / 8 / 12 Hz cut-offs; a
+0.14 s or a degree-2 Savitzky–Golay α; no gyro-bias removal), with the
+accelerometers shifted by ±1 sample against the gyros, the RMS residual of
+eq. 3 at the optical truth against the one at our estimate, and the linear
+least-squares solution of the stronger 3-D constraint ``g_1 = R_12 g_2``
+with the *optical* relative rotation (no norm, no orientation filter).
+
 Time: each (method, trial) runs in a fresh worker process (``--worker``):
 ``import`` = importing the library, ``cold`` = its first call in that
 process (CasADi construction, numba compilation or cache load, lazy imports),
@@ -41,16 +49,22 @@ already imported (the worker read the data) and are not counted. Workers run wit
 ``OPENBLAS_NUM_THREADS=1`` on a shared 2-core machine, so times are
 indicative to ~20 %.
 
-Environment: ``qmt`` 0.2.4's only wheel is built against NumPy 1.x and the
-project venv has NumPy 2, and qmt also pulls in a web stack (aiohttp,
-transplant, qasync, ...). So the peers live in a separate venv, made with
-``python -m venv /work/venv-peers && /work/venv-peers/bin/pip install
-"numpy<2" qmt==0.2.4 dfjimu==0.4.1 && /work/venv-peers/bin/pip install -e
-<this checkout>``. A worker first tries the interpreter running this script
-and, when the import fails there, ``--peer-python`` (default
+Environment: the peers are kept out of the project venv (qmt 0.2.4 pulls in a
+web stack: aiohttp, transplant, qasync, orjson, ...). They live in a separate
+venv made with ``python -m venv /work/venv-peers && /work/venv-peers/bin/pip
+install "numpy<2" qmt==0.2.4 dfjimu==0.4.1 && /work/venv-peers/bin/pip
+install -e <this checkout>`` (PyPI wheels; no sdist build was needed). The
+last step upgraded that venv's NumPy to 2.4.6 (the project's dependencies
+need NumPy 2). Under NumPy 2 qmt's compiled extensions (``qmt.cpp.*``) fail to
+import ("numpy.core.multiarray failed to import"), but
+``jointAxisEstHingeOlsson`` is pure Python/NumPy and runs; ``import qmt``
+works. A worker first tries the interpreter running this script and, when
+the import fails there, ``--peer-python`` (default
 ``/work/venv-peers/bin/python`` if present); a method that imports nowhere
 is reported with the exact import error instead of numbers. Our methods
-always run in the interpreter running this script.
+always run in the interpreter running this script, with this checkout first
+on ``sys.path`` / ``PYTHONPATH`` (the venv's editable install may point at
+another checkout).
 
 Usage: ``python benchmarks/rig.py [--data DIR] [--repeats 7] [--peer-python PY] [--out DIR]``
 (``--data`` defaults to ``$LOWERLIMB_DATA`` or ``../shared/data`` beside
@@ -250,6 +264,95 @@ def worker(method: str, data_dir: Path, trial: str, repeats: int) -> dict[str, A
     }
 
 
+# ---------------------------------------------------------------- diagnosis (ours, in process)
+
+#: (label, CalibrationOptions keywords)
+VARIANTS: tuple[tuple[str, dict[str, Any]], ...] = (
+    ("defaults", {}),
+    ("no prefilter", {"prefilter": False}),
+    ("cut-off 5 Hz", {"cutoff_hz": 5.0}),
+    ("cut-off 8 Hz", {"cutoff_hz": 8.0}),
+    ("cut-off 12 Hz", {"cutoff_hz": 12.0}),
+    ("α window 0.14 s", {"angacc_window_s": 0.14}),
+    ("α degree 2, 0.06 s", {"angacc_polyorder": 2, "angacc_window_s": 0.06}),
+    ("no gyro-bias removal", {"remove_gyro_bias": False}),
+)
+
+
+def centre_errors_mm(t: dict[str, Any], trial: str, c1: np.ndarray, c2: np.ndarray) -> tuple[float, float]:
+    if trial == HINGE_TRIAL:
+        j1, j2, _ = true_hinge_axes(t["q1"], t["q2"])
+        return 1000 * distance_to_line(c1, t["r_12"], j1), 1000 * distance_to_line(c2, t["r_21"], j2)
+    return 1000 * float(np.linalg.norm(c1 - t["r_12"])), 1000 * float(np.linalg.norm(c2 - t["r_21"]))
+
+
+def diagnose(t: dict[str, Any], trial: str) -> list[dict[str, Any]]:
+    """Centre errors of our estimator under the variants above, and two truth checks."""
+    from lowerlimb.calibration import CalibrationOptions, calibrate_spherical_joint
+    from lowerlimb.calibration._prepare import prepare_pair
+    from lowerlimb.constraints.spherical import spherical_residual
+
+    a1, g1, a2, g2, rate = t["acc1"], t["gyr1"], t["acc2"], t["gyr2"], t["rate_hz"]
+    rows: list[dict[str, Any]] = []
+
+    def add(label: str, c1: np.ndarray, c2: np.ndarray, rms: float | None) -> None:
+        e1, e2 = centre_errors_mm(t, trial, c1, c2)
+        rows.append({"trial": trial, "variant": label, "err_1": e1, "err_2": e2, "rms_residual": rms})
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for label, kw in VARIANTS:
+            r = calibrate_spherical_joint(a1, g1, a2, g2, rate_hz=rate, options=CalibrationOptions(**kw))
+            add(label, r.center_in_parent_sensor, r.center_in_child_sensor, r.rms_residual)
+        for shift in (-1, 1):
+            n = a1.shape[0] - 1
+            sa, sg = (slice(1, None), slice(0, n)) if shift > 0 else (slice(0, n), slice(1, None))
+            r = calibrate_spherical_joint(a1[sa], g1[sg], a2[sa], g2[sg], rate_hz=rate)
+            add(
+                f"acc shifted {shift:+d} sample",
+                r.center_in_parent_sensor,
+                r.center_in_child_sensor,
+                r.rms_residual,
+            )
+        _, data = prepare_pair(a1, g1, a2, g2, rate, CalibrationOptions())
+        x_true = np.r_[t["r_12"], t["r_21"]]
+        rms_true = float(np.sqrt(np.mean(spherical_residual(x_true, data) ** 2)))
+        rows.append(
+            {
+                "trial": trial,
+                "variant": "optical truth itself",
+                "err_1": 0.0,
+                "err_2": 0.0,
+                "rms_residual": rms_true,
+            }
+        )
+        R1, R2 = quat_wxyz_to_matrix(t["q1"]), quat_wxyz_to_matrix(t["q2"])
+        R12 = np.einsum("nji,njk->nik", R1, R2)
+        A = np.concatenate([data.K_parent, -R12 @ data.K_child], axis=2).reshape(-1, 6)
+        b = -(data.acc_parent - np.einsum("nij,nj->ni", R12, data.acc_child)).reshape(-1)
+        x = np.linalg.lstsq(A, b, rcond=None)[0]
+        add("3-D constraint, optical R_12", x[:3], x[3:], None)
+    return rows
+
+
+def diagnosis_markdown(rows: list[dict[str, Any]]) -> str:
+    lines = [
+        "### Diagnosis: our centre error under variants of the preparation, and truth checks",
+        "",
+        "Error as above (hinge trial: distance to the axis line), mm. RMS residual of eq. 3 (m/s²) at",
+        "that estimate on that variant's signals; the truth row: at r_12 / r_21 on the default signals.",
+        "Without gyro-bias removal there is no still-period noise level either, so the adaptive",
+        "cut-off is found from the top of the spectrum (it then filters; with it, it does not).",
+        "",
+        "| trial | variant | err sensor 1 mm | err sensor 2 mm | RMS residual |",
+        "|---|---|---|---|---|",
+    ]
+    for r in rows:
+        rms = "–" if r["rms_residual"] is None else f"{r['rms_residual']:.3f}"
+        lines.append(f"| {r['trial']} | {r['variant']} | {r['err_1']:.1f} | {r['err_2']:.1f} | {rms} |")
+    return "\n".join(lines) + "\n"
+
+
 # ---------------------------------------------------------------- driver
 
 
@@ -421,11 +524,12 @@ def main() -> None:
     rows.sort(key=lambda r: (r["trial"], METHODS[r["method"]][1], r["method"]))
     j1, j2, spread = true_hinge_axes(trials[HINGE_TRIAL]["q1"], trials[HINGE_TRIAL]["q2"])
     truth = {"j_1": j1.tolist(), "j_2": j2.tolist(), "spread_deg": spread}
-    text = to_markdown(rows, truth)
+    diag = [d for name in TRIALS for d in diagnose(trials[name], name)]
+    text = to_markdown(rows, truth) + "\n" + diagnosis_markdown(diag)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "rig.md").write_text(text)
-    (out / "rig.json").write_text(json.dumps({"truth": truth, "rows": rows}, indent=1))
+    (out / "rig.json").write_text(json.dumps({"truth": truth, "rows": rows, "diagnosis": diag}, indent=1))
     print(text)
 
 
