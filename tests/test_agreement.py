@@ -1,0 +1,164 @@
+import math
+
+import numpy as np
+import pytest
+
+from lowerlimb.agreement import (
+    AgreementParams,
+    AlignmentError,
+    EmptyReferenceError,
+    NoCommonColumnsError,
+    NoTimeOverlapError,
+    agreement_statistics,
+    cmc_two_waveforms,
+    compare_series,
+    estimate_time_offset,
+    pearson_r,
+    plot_bland_altman,
+    resample_linear,
+)
+from lowerlimb.errors import ShapeError, TimeAxisError
+
+OURS = [1.0, 2.0, 3.0, 4.0, 5.5]
+REF = [1.5, 1.5, 3.5, 3.0, 5.0]
+
+
+def test_bland_altman_matches_hand_computation():
+    # d = ours - ref = [-0.5, 0.5, -0.5, 1.0, 0.5]; mean 0.2
+    # deviations from the mean: -0.7, 0.3, -0.7, 0.8, 0.3 -> sum of squares 1.8 -> SD = sqrt(1.8 / 4)
+    s = agreement_statistics(OURS, REF, quantity="knee_flexion", unit="deg")
+    sd = math.sqrt(0.45)
+    assert s.n == 5 and s.unit == "deg" and s.quantity == "knee_flexion"
+    assert s.bias == pytest.approx(0.2, abs=1e-12)
+    assert s.sd_diff == pytest.approx(sd, abs=1e-12)
+    assert s.loa_lower == pytest.approx(0.2 - 1.96 * sd, abs=1e-12)
+    assert s.loa_upper == pytest.approx(0.2 + 1.96 * sd, abs=1e-12)
+    assert s.loa_upper == pytest.approx(1.5148070, abs=1e-6)
+    # d^2 = .25 .25 .25 1 .25 -> mean 0.4
+    assert s.rmse == pytest.approx(math.sqrt(0.4), abs=1e-12)
+    # sum dx dy = 9.55, sum dx^2 = 12.2, sum dy^2 = 8.7
+    assert s.pearson_r == pytest.approx(9.55 / math.sqrt(12.2 * 8.7), abs=1e-12)
+    assert s.offset_removed == 0.0
+
+
+def test_cmc_matches_hand_computation():
+    # frame means (x+y)/2; within-frame SS = sum(d^2)/2 = 1.0 -> / (F (G-1)) = 1/5
+    # grand mean 3.0; total SS = 12.25 + 8.75 = 21 -> / (G F - 1) = 21/9
+    assert cmc_two_waveforms(OURS, REF) == pytest.approx(math.sqrt(1 - 0.2 / (21 / 9)), abs=1e-12)
+    s = agreement_statistics(OURS, REF, quantity="q", unit="deg")
+    assert s.cmc == pytest.approx(0.9561829, abs=1e-6)
+
+
+def test_cmc_undefined_cases_and_offset_sensitivity():
+    assert math.isnan(cmc_two_waveforms([2.0, 2.0, 2.0], [2.0, 2.0, 2.0]))  # no variance at all
+    # opposite square waves: within-frame variance exceeds the total -> complex CMC -> NaN
+    assert math.isnan(cmc_two_waveforms([0, 1, 0, 1], [1, 0, 1, 0]))
+    t = np.linspace(0, 2 * np.pi, 200)
+    assert cmc_two_waveforms(np.sin(t), np.sin(t)) == pytest.approx(1.0)
+    # an offset leaves r at 1 but lowers the CMC
+    assert pearson_r(np.sin(t) + 0.5, np.sin(t)) == pytest.approx(1.0)
+    assert cmc_two_waveforms(np.sin(t) + 0.5, np.sin(t)) < 0.95
+    assert math.isnan(pearson_r([1.0, 1.0, 1.0], [1.0, 2.0, 3.0]))
+
+
+def test_remove_offset_and_nan_pairs():
+    ours = np.array(OURS + [np.nan, 7.0]) + 10.0
+    ref = np.array(REF + [3.0, np.nan])
+    s = agreement_statistics(ours, ref, quantity="q", unit="m", remove_offset=True)
+    assert s.n == 5
+    assert s.offset_removed == pytest.approx(10.2, abs=1e-12)
+    assert s.bias == pytest.approx(0.0, abs=1e-12)
+    assert s.sd_diff == pytest.approx(math.sqrt(0.45), abs=1e-12)
+    assert s.rmse == pytest.approx(math.sqrt(1.8 / 5), abs=1e-12)
+    few = agreement_statistics([1.0, np.nan, 3.0], [1.0, 2.0, np.nan], quantity="q", unit="m")
+    assert few.n == 1 and math.isnan(few.rmse)
+    with pytest.raises(ShapeError):
+        agreement_statistics([1.0, 2.0], [1.0], quantity="q", unit="m")
+
+
+def test_params_change_the_limits():
+    s = agreement_statistics(
+        OURS, REF, quantity="q", unit="deg", params=AgreementParams(loa_z=2.0, sd_ddof=0)
+    )
+    sd0 = math.sqrt(1.8 / 5)
+    assert s.loa_upper == pytest.approx(0.2 + 2.0 * sd0, abs=1e-12)
+
+
+def test_resample_linear_does_not_extrapolate_or_bridge_gaps():
+    t = np.array([0.0, 1.0, 2.0, 3.0])
+    v = np.array([0.0, 10.0, np.nan, 30.0])
+    out = resample_linear(t, v, np.array([-0.5, 0.0, 0.5, 1.0, 1.5, 2.5, 3.0, 3.5]))
+    assert out[1] == 0.0 and out[2] == 5.0 and out[3] == 10.0 and out[6] == 30.0
+    assert np.isnan(out[[0, 4, 5, 7]]).all()
+
+
+def _signals(t):
+    """Two non-periodic gait-like waveforms (deg)."""
+    knee = 30 * np.sin(2 * np.pi * 0.9 * t) ** 2 + 8 * np.sin(2 * np.pi * 0.31 * t)
+    hip = 20 * np.sin(2 * np.pi * 0.9 * t + 0.7) + 5 * np.cos(2 * np.pi * 0.17 * t)
+    return np.column_stack([knee, hip])
+
+
+def test_known_time_shift_is_recovered():
+    t = np.arange(0, 20, 0.01)  # our clock, 100 Hz
+    true_offset = 0.237  # reference time stamps lag ours: t_ref = t_true - offset
+    t_ref = np.arange(0.5, 19.0, 1 / 120) - true_offset  # 120 Hz reference on its own clock
+    ref = _signals(t_ref + true_offset)
+    a = estimate_time_offset(t, _signals(t), t_ref, ref)
+    assert a.offset_s == pytest.approx(true_offset, abs=0.002)
+    assert a.peak_correlation > 0.999 and not a.at_window_edge and a.n_quantities == 2
+    assert a.search_window_s == pytest.approx(2.0)
+    # and the other direction, with a constant offset between the systems (ignored by r)
+    b = estimate_time_offset(t, _signals(t), t_ref + 2 * true_offset, ref + 5.0)
+    assert b.offset_s == pytest.approx(-true_offset, abs=0.002)
+
+
+def test_compare_series_aligns_then_scores():
+    t = np.arange(0, 20, 0.01)
+    true_offset = -0.31
+    t_ref = np.arange(0.0, 20.0, 0.01) - true_offset
+    rng = np.random.default_rng(3)
+    ref_vals = _signals(t_ref + true_offset)
+    noise = rng.normal(0, 0.5, t.size)  # on our samples: not smoothed by the resampling
+    ours = _signals(t)
+    units = {"knee_flexion": "deg", "hip_flexion": "deg", "pelvis_to_foot_x": "m"}
+    ours_d = {"knee_flexion": ours[:, 0] + 1.5 + noise, "hip_flexion": ours[:, 1], "pelvis_to_foot_x": t * 0}
+    ref_d = {"knee_flexion": ref_vals[:, 0], "hip_flexion": ref_vals[:, 1], "vicon_only": t_ref}
+    raw = compare_series(t, ours_d, units, t_ref, ref_d)
+    c = compare_series(t, ours_d, units, t_ref, ref_d, align_time=True)
+    assert c.time_offset_s == pytest.approx(true_offset, abs=0.005)
+    assert [s.quantity for s in c.quantities] == ["knee_flexion", "hip_flexion"]
+    assert c.ignored_reference_columns == ("vicon_only",)
+    knee = c.quantities[0]
+    assert knee.bias == pytest.approx(1.5, abs=0.05)
+    assert knee.sd_diff == pytest.approx(np.std(noise, ddof=1), abs=0.01)  # only the added noise is left
+    assert raw.quantities[0].rmse > 3 * knee.rmse
+    d = compare_series(t, ours_d, units, t_ref, ref_d, align_time=True, remove_offset=True)
+    assert d.quantities[0].bias == pytest.approx(0.0, abs=1e-9)
+    assert d.quantities[0].offset_removed == pytest.approx(1.5, abs=0.05)
+    assert c.series[0].ours.shape == c.series[0].reference.shape == (knee.n,)
+
+
+def test_compare_series_errors():
+    t = np.arange(0, 5, 0.01)
+    ours = {"knee_flexion": np.sin(t)}
+    units = {"knee_flexion": "deg"}
+    with pytest.raises(NoCommonColumnsError, match="hip_flex"):
+        compare_series(t, ours, units, t, {"hip_flex": np.sin(t)})
+    with pytest.raises(NoTimeOverlapError, match="no overlap"):
+        compare_series(t, ours, units, t + 100, {"knee_flexion": np.sin(t)})
+    with pytest.raises(EmptyReferenceError, match="knee_flexion"):
+        compare_series(t, ours, units, t, {"knee_flexion": np.full(t.size, np.nan)})
+    with pytest.raises(AlignmentError):
+        compare_series(t, ours, units, t, {"knee_flexion": np.full(t.size, np.nan)}, align_time=True)
+    with pytest.raises(TimeAxisError, match="strictly increasing"):
+        compare_series(t, ours, units, t[::-1], {"knee_flexion": np.sin(t)})
+
+
+def test_bland_altman_plot_is_written(tmp_path):
+    t = np.arange(0, 5, 0.01)
+    units = {"a": "deg", "b": "deg"}
+    c = compare_series(t, {"a": np.sin(t), "b": np.cos(t)}, units, t, {"a": np.sin(t) + 0.1, "b": np.cos(t)})
+    path = tmp_path / "ba.png"
+    plot_bland_altman(path, c.quantities, c.series, title="test")
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 10_000

@@ -1,0 +1,138 @@
+import csv
+import json
+
+import numpy as np
+import pytest
+
+from lowerlimb.cli import main
+from lowerlimb.conventions import ANGLE_COLUMNS, POSITION_COLUMNS
+from lowerlimb.output import write_angles_csv, write_positions_csv
+
+
+def _calibrate_dir(tmp_path):
+    """A calibrate-like output folder (angles.csv in deg, positions.csv in m) on a 100 Hz clock."""
+    d = tmp_path / "cal"
+    d.mkdir()
+    t = np.arange(0, 12, 0.01)
+    phase = 2 * np.pi * 0.9 * t
+    angles_rad = np.deg2rad(
+        np.column_stack([(k + 1) * 5 * np.sin(phase + k) + 3 * np.sin(0.37 * t) for k in range(9)])
+    )
+    positions_m = np.column_stack([0.1 * np.sin(phase + k) + 0.02 * np.cos(0.41 * t) for k in range(6)])
+    write_angles_csv(d / "angles.csv", t, angles_rad)
+    write_positions_csv(d / "positions.csv", t, positions_m)
+    return d, t, np.rad2deg(angles_rad), positions_m
+
+
+def _write_ref(path, header, rows):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        w.writerows(rows)
+
+
+def test_compare_writes_agreement_plots_and_offset(tmp_path, capsys):
+    d, t, deg, pos = _calibrate_dir(tmp_path)
+    offset = 0.12
+    t_ref = t[50:-50] - offset  # reference clock lags ours by 0.12 s
+    knee = list(ANGLE_COLUMNS).index("knee_flexion") - 1
+    ref_knee = deg[50:-50, knee] - 2.0  # lowerlimb reads 2 deg more
+    ref_px = pos[50:-50, 0]
+    ref_px_gap = ref_px.copy()
+    ref_px_gap[100:200] = np.nan
+    rows = [
+        [f"{a:.6f}", f"{b:.6f}", "" if np.isnan(c) else f"{c:.7f}", "1"]
+        for a, b, c in zip(t_ref, ref_knee, ref_px_gap, strict=True)
+    ]
+    ref = tmp_path / "vicon.csv"
+    _write_ref(ref, ["time", "knee_flexion", "pelvis_to_foot_x", "marker_count"], rows)
+    out = tmp_path / "agree"
+    assert main(["compare", str(d), str(ref), "--out", str(out), "--align-time"]) == 0
+    assert "shifted by +0.120 s" in capsys.readouterr().out
+    assert {p.name for p in out.iterdir()} == {
+        "agreement.csv",
+        "agreement.json",
+        "bland_altman_angles.png",
+        "bland_altman_positions.png",
+    }
+    with open(out / "agreement.csv") as f:
+        table = {r["quantity"]: r for r in csv.DictReader(f)}
+    assert list(table) == ["knee_flexion", "pelvis_to_foot_x"]
+    k = table["knee_flexion"]
+    assert k["unit"] == "deg" and table["pelvis_to_foot_x"]["unit"] == "m"
+    assert float(k["bias"]) == pytest.approx(2.0, abs=0.01)
+    assert float(k["loa_lower"]) == pytest.approx(2.0, abs=0.02) and float(k["loa_upper"]) == pytest.approx(
+        2.0, abs=0.02
+    )
+    assert float(k["pearson_r"]) == pytest.approx(1.0, abs=1e-4)
+    assert float(k["cmc"]) < 1.0  # the 2 deg offset lowers the CMC, not r
+    # the 100-sample gap is dropped, plus a neighbour at each edge and end for a sub-sample shift
+    assert t_ref.size - 104 <= int(table["pelvis_to_foot_x"]["n"]) <= t_ref.size - 100
+    assert float(table["pelvis_to_foot_x"]["rmse"]) < 1e-4
+    summary = json.loads((out / "agreement.json").read_text())
+    assert summary["time_offset_s"] == pytest.approx(offset, abs=0.002)
+    assert summary["ignored_reference_columns"] == ["marker_count"]
+    assert summary["plots"] == ["bland_altman_angles.png", "bland_altman_positions.png"]
+
+    out2 = tmp_path / "agree2"
+    assert main(["compare", str(d), str(ref), "--out", str(out2), "--remove-offset"]) == 0
+    with open(out2 / "agreement.csv") as f:
+        k2 = next(r for r in csv.DictReader(f) if r["quantity"] == "knee_flexion")
+    assert float(k2["bias"]) == pytest.approx(0.0, abs=1e-9)
+    assert float(k2["offset_removed"]) > 1.0  # the unaligned 0.12 s adds to the 2 deg differently
+    assert json.loads((out2 / "agreement.json").read_text())["time_offset_s"] == 0.0
+    assert POSITION_COLUMNS[1] == "pelvis_to_foot_x"
+
+
+@pytest.mark.parametrize(
+    "case, message",
+    [
+        ("missing_dir", "is not a directory"),
+        ("missing_ref", "does not exist"),
+        ("empty_dir", "neither angles.csv nor positions.csv"),
+        ("no_common", "rename its columns"),
+        ("no_overlap", "no overlap"),
+        ("nan_only", "fewer than 3 finite values"),
+        ("no_time", "no header with a 'time' column"),
+        ("existing_out", "already exists"),
+    ],
+)
+def test_compare_bad_input_is_one_line_exit_2_and_writes_nothing(case, message, tmp_path, capsys):
+    d, t, deg, _ = _calibrate_dir(tmp_path)
+    ref = tmp_path / "ref.csv"
+    header, cols = ["time", "knee_flexion"], [t, deg[:, 3]]
+    if case == "no_common":
+        header = ["time", "KneeFlex"]
+    elif case == "no_overlap":
+        cols = [t + 1000.0, deg[:, 3]]
+    elif case == "nan_only":
+        cols = [t, np.full(t.size, np.nan)]
+    elif case == "no_time":
+        header = ["t", "knee_flexion"]
+    _write_ref(
+        ref, header, [["" if np.isnan(v) else f"{v:.6f}" for v in row] for row in zip(*cols, strict=True)]
+    )
+    if case == "missing_dir":
+        d = tmp_path / "nope"
+    elif case == "missing_ref":
+        ref = tmp_path / "nope.csv"
+    elif case == "empty_dir":
+        (d / "angles.csv").unlink()
+        (d / "positions.csv").unlink()
+    out = tmp_path / "agree"
+    if case == "existing_out":
+        out.mkdir()
+        (out / "keep.txt").write_text("mine")
+    before = sorted(p.name for p in tmp_path.iterdir())
+    assert main(["compare", str(d), str(ref), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert message in err, err
+    assert err.startswith("lowerlimb: error: ") and err.count("\n") == 1 and "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == before  # nothing half-written, no staging left
+    if case == "existing_out":
+        assert [p.name for p in out.iterdir()] == ["keep.txt"]
+
+
+def test_compare_requires_out(capsys):
+    assert main(["compare", "a", "b.csv"]) == 2
+    assert "--out" in capsys.readouterr().err
