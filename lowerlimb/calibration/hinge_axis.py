@@ -306,6 +306,21 @@ def acc_sign_correlation(
     return check_sign_with_acc(axis_parent, axis_child, gp, gc), center
 
 
+def _with_gravity(
+    wp: FloatArray,
+    wc: FloatArray,
+    gravity: tuple[FloatArray, FloatArray] | None,
+    n_still: int,
+    options: CalibrationOptions,
+) -> tuple[FloatArray, FloatArray]:
+    """The gyros with the still period's gravity pseudo-samples appended (see :func:`fit_hinge_axis`)."""
+    if gravity is None or n_still < 1 or options.hinge_gravity_rate_rps <= 0:
+        return wp, wc
+    r = options.hinge_gravity_rate_rps
+    up, uc = (np.asarray(u, dtype=float) / np.linalg.norm(u) for u in gravity)
+    return np.vstack([wp, np.tile(r * up, (n_still, 1))]), np.vstack([wc, np.tile(r * uc, (n_still, 1))])
+
+
 def fit_hinge_axis(
     gyr_parent: FloatArray,
     gyr_child: FloatArray,
@@ -318,8 +333,18 @@ def fit_hinge_axis(
     parent_sensor: str = "parent",
     child_sensor: str = "child",
     acc_check: Callable[[FloatArray, FloatArray], float] | None = None,
+    gravity: tuple[FloatArray, FloatArray] | None = None,
 ) -> HingeAxisCalibration:
     """Solve eq. 12 on prepared gyros, resolve the signs and attach diagnostics.
+
+    A rotation about the hinge keeps the angle between the axis and any vector
+    that both segments share; gravity at rest is such a vector, so
+    ``|u_P × j_P| = |u_C × j_C|`` for the gravity directions ``u`` of a still
+    period: the same form as a gyro sample of eq. 12. ``gravity`` adds it as
+    ``n_still`` pseudo-samples ``ω = hinge_gravity_rate_rps · u``. It pins the
+    axis's tilt against the segments' long axes, which the gyro residual leaves
+    soft when soft tissue rotates a real thigh sensor about the thigh (the
+    residual then tilts the axis towards the long axis to absorb it).
 
     Args:
         gyr_parent: (N, 3) bias-corrected, filtered parent gyro, rad/s.
@@ -334,6 +359,8 @@ def fit_hinge_axis(
         acc_check: optional ``(j_P, j_C) -> correlation`` of the joint-centre
             accelerations along the axes (:func:`acc_sign_correlation`); it decides
             the relative sign when the gyro coherence is ambiguous.
+        gravity: optional ``(u_P, u_C)`` (3,) mean accelerometer directions of the
+            still period in each frame (unit vectors), see above.
 
     Returns:
         The axis result; warnings are issued and recorded.
@@ -343,19 +370,20 @@ def fit_hinge_axis(
     """
     t0 = time.perf_counter()
     wp, wc = gyr_parent, gyr_child
+    wpf, wcf = _with_gravity(wp, wc, gravity, n_still, options)
     iterations = 0
     messages: list[str] = []
     if method in ("casadi", "gn"):
-        jp, jc, _, iterations, converged, solver = _multistart(wp, wc, method, options)
+        jp, jc, _, iterations, converged, solver = _multistart(wpf, wcf, method, options)
     else:
-        res = solve_global(_problem(wp, wc, options), method, options)
+        res = solve_global(_problem(wpf, wcf, options), method, options)
         jp = axis_from_angles(res.x[0], res.x[1])
         jc = axis_from_angles(res.x[2], res.x[3])
         iterations, converged, solver = int(res.iterations), bool(res.converged), res.method
         if method.endswith("+casadi"):
             # safeguard: the swarm may hand a wrong basin to the refinement (squats:
             # a minimum 90° away); keep the better of it and the default starts
-            ms = _multistart(wp, wc, "casadi", options)
+            ms = _multistart(wpf, wcf, "casadi", options)
             iterations += ms[3]
             if ms[2] < res.cost:
                 jp, jc, converged = ms[0], ms[1], ms[4]

@@ -25,6 +25,13 @@ from lowerlimb.conventions import FloatArray
 __all__ = ["calibrate_hinge_joint", "fit_hinge_joint"]
 
 
+def _still_gravity(data: SphericalData, n_still: int) -> tuple[FloatArray, FloatArray] | None:
+    """Mean accelerometer of the still period in each frame (``None`` without one)."""
+    if n_still < 1:
+        return None
+    return data.acc_parent[:n_still].mean(axis=0), data.acc_child[:n_still].mean(axis=0)
+
+
 def fit_hinge_joint(
     data: SphericalData,
     *,
@@ -69,6 +76,7 @@ def fit_hinge_joint(
         parent_sensor=parent_sensor,
         child_sensor=child_sensor,
         acc_check=acc_check,
+        gravity=_still_gravity(data, n_still),
     )
     center = fit_spherical(
         data,

@@ -60,6 +60,9 @@ class CalibrationOptions:
             look swapped (:mod:`~lowerlimb.calibration.plausibility`).
         max_iter: iteration limit of the Gauss–Newton solvers.
         tol: convergence tolerance of the Gauss–Newton solvers (relative step).
+        hinge_gravity_rate_rps: weight of the still-period gravity rows of the hinge
+            fit, as the angular rate (rad/s) of the pseudo-samples, one per still
+            sample (0: off; see :func:`~lowerlimb.calibration.hinge_axis.fit_hinge_axis`).
         hinge_starts: number of starting axis pairs of the hinge problem (the
             residual has sign symmetries and local minima).
         swarm_samples: the swarms evaluate their population cost on at most this
@@ -99,6 +102,7 @@ class CalibrationOptions:
     check_sensor_order: bool = True
     max_iter: int = 50
     tol: float = 1e-7
+    hinge_gravity_rate_rps: float = 0.0
     hinge_starts: int = 3
     swarm_samples: int = 1500
     n_particles: int = 40
