@@ -166,8 +166,9 @@ def to_markdown(res: dict) -> str:
         "# Real overground walk (gait/, Xsens MTw + Vicon), each leg as a single-leg trial",
         "",
         "Errors against Vicon Plug-in Gait (a regression model itself). Flexion RMSE over the walking "
-        "window (frames 1120–2074) and, in brackets, over the straight passes only; all angles zeroed on the "
-        "standing period. Goals (issue 9): lengths ≤ 20 mm, knee/hip/ankle flexion ≤ 5°, hip-to-ankle ≤ 25 mm.",
+        "window (frames 1120–2074) and, in brackets, over the straight passes only; all angles zeroed on "
+        "the standing period. Goals (issue 9): lengths ≤ 20 mm, knee/hip/ankle flexion ≤ 5°, "
+        "hip-to-ankle ≤ 25 mm.",
         "",
         "| config | side | thigh mm (err) | shank mm (err) | knee ° | hip ° | ankle ° | hip–ankle mm | "
         "knee axis ±° | hip ±mm | calib s |",
@@ -178,7 +179,8 @@ def to_markdown(res: dict) -> str:
             lines.append(f"| {r['config']} | {r['side']} | fails: {r['error'][:80]} |||||||||")
             continue
         lines.append(
-            f"| {r['config']} | {r['side']} | {r['thigh_length_mm']:.0f} ({r['thigh_length_error_mm']:+.0f}) | "
+            f"| {r['config']} | {r['side']} | "
+            f"{r['thigh_length_mm']:.0f} ({r['thigh_length_error_mm']:+.0f}) | "
             f"{r['shank_length_mm']:.0f} ({r['shank_length_error_mm']:+.0f}) | "
             f"{r['knee_flexion_rmse_deg']:.1f} ({r['knee_flexion_rmse_straight_deg']:.1f}) | "
             f"{r['hip_flexion_rmse_deg']:.1f} ({r['hip_flexion_rmse_straight_deg']:.1f}) | "
@@ -190,7 +192,8 @@ def to_markdown(res: dict) -> str:
         "",
         "Vicon lengths: "
         + ", ".join(
-            f"{r['side']} thigh {r['thigh_length_vicon_mm']:.0f} mm, shank {r['shank_length_vicon_mm']:.0f} mm"
+            f"{r['side']} thigh {r['thigh_length_vicon_mm']:.0f} mm, "
+            f"shank {r['shank_length_vicon_mm']:.0f} mm"
             for r in res["rows"]
             if r.get("config") == "default" and "error" not in r
         ),
