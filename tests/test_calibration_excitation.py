@@ -70,3 +70,32 @@ def test_options_are_checked(field, value):
 
     with pytest.raises(InputError, match=field):
         CalibrationOptions(**{field: value})
+
+
+def test_correlation_time_of_white_and_ar1_residuals():
+    from lowerlimb.calibration.excitation import correlation_time  # noqa: I001
+
+    rng = np.random.default_rng(0)
+    assert correlation_time(rng.normal(size=20000)) == pytest.approx(1.0, abs=0.1)
+    phi = 0.8
+    e = rng.normal(size=40000)
+    x = np.empty_like(e)
+    x[0] = e[0]
+    for i in range(1, e.size):
+        x[i] = phi * x[i - 1] + e[i]
+    assert correlation_time(x) == pytest.approx((1 + phi) / (1 - phi), rel=0.15)  # 9 samples
+
+
+def test_correlated_residuals_widen_the_covariance():
+    from lowerlimb.calibration.excitation import jacobian_report
+
+    rng = np.random.default_rng(1)
+    J = rng.normal(size=(5000, 2))
+    white = rng.normal(size=5000)
+    smooth = np.convolve(white, np.ones(9) / 3.0, mode="same")  # same variance, τ ≈ 9
+    a = jacobian_report(J, white, noise_floor=0.0)
+    b = jacobian_report(J, smooth * white.std() / smooth.std(), noise_floor=0.0)
+    assert b.correlation_samples > 5 and a.correlation_samples < 1.5
+    assert b.std[0] / a.std[0] == pytest.approx(
+        np.sqrt(b.correlation_samples / a.correlation_samples), rel=0.05
+    )

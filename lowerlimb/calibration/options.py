@@ -112,7 +112,7 @@ class CalibrationOptions:
     seed: int = 0
     noise_floor_mps2: float = 0.1
     noise_floor_rps: float = 0.015
-    center_std_tol_m: float = 0.01
+    center_std_tol_m: float = 0.015
     axis_std_tol_deg: float = 1.0
     min_rms_rate_rps: float = 0.1
 
