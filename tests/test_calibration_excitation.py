@@ -73,7 +73,7 @@ def test_options_are_checked(field, value):
 
 
 def test_correlation_time_of_white_and_ar1_residuals():
-    from lowerlimb.calibration.excitation import correlation_time  # noqa: I001
+    from lowerlimb.calibration.excitation import correlation_time
 
     rng = np.random.default_rng(0)
     assert correlation_time(rng.normal(size=20000)) == pytest.approx(1.0, abs=0.1)
