@@ -18,7 +18,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import NoReturn
 
-from . import __version__
+from . import __version__, cli_import
 from .errors import InputError, LowerLimbError
 
 EXIT_OK = 0
@@ -139,6 +139,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("view", help="meshcat animation of a calibrated trial")
     p.add_argument("dir", type=Path, metavar="DIR", help="output directory of 'lowerlimb calibrate'")
     p.add_argument("--open", action="store_true", help="also open the view in a web browser")
+    cli_import.add_parser(sub)
     return parser
 
 
@@ -256,6 +257,7 @@ COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
     "calibrate": cmd_calibrate,
     "demo": cmd_demo,
     "view": cmd_view,
+    "import": cli_import.run,
 }
 
 
