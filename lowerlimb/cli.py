@@ -271,7 +271,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
         if args.command is None:
             raise UsageError(
-                "no command given; choose simulate, calibrate, demo or view (see 'lowerlimb --help')"
+                "no command given; choose simulate, calibrate, demo, view or import (see 'lowerlimb --help')"
             )
         with warnings.catch_warnings():
             warnings.simplefilter("default")

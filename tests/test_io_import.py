@@ -216,6 +216,7 @@ def test_xsens_two_legs(tmp_path):
         ("norate", IDS, InputError, "no '// Update Rate: …Hz' comment line"),
         ("apart", IDS, InputError, "share no packets"),
         ("badcell", IDS, InputError, r"line 7: Acc_Y is not a number \('abc'\)"),
+        ("empty", IDS, InputError, "has 0 packet"),
     ],
 )
 def test_xsens_errors(tmp_path, setup, mapping, error, message):
@@ -232,6 +233,8 @@ def test_xsens_errors(tmp_path, setup, mapping, error, message):
         foot.write_text(text.replace("// Update Rate: 100.0Hz\n", ""))
     elif setup == "apart":
         _write_export(foot, np.arange(3000, 3400), 3)
+    elif setup == "empty":
+        foot.write_text("\n".join(text.splitlines()[:4]))
     elif setup == "badcell":
         lines = text.splitlines()
         cells = lines[6].split(",")
@@ -493,6 +496,19 @@ def test_cli_import_xsens_and_csv(tmp_path, capsys):
         (["import", "csv", "V", "--mapping", "BADMAP"], "field 'time.unit'"),
         (["import", "csv", "V", "--mapping", "MAP", "--side", "left"], "unrecognized arguments: --side"),
         (["import", "tsv", "V"], "invalid choice: 'tsv'"),
+        (
+            [
+                "import",
+                "xsens",
+                "REC",
+                "--map",
+                ",".join(f"{k}={v}" for k, v in TWO_IDS.items()),
+                "--side",
+                "left",
+            ],
+            "--side is for a one-leg map",
+        ),
+        (["import", "xsens", "REC", "--map", "pelvis=A,pelvis=B"], "segment 'pelvis' is given twice"),
     ],
 )
 def test_cli_import_bad_input_is_one_line_exit_2_no_output(argv, message, tmp_path, capsys, monkeypatch):

@@ -84,7 +84,7 @@ def unwrap_counter(counter: np.ndarray) -> np.ndarray:
     """Unwrap a 16-bit packet counter: (M,) raw values 0..65535 → (M,) int64, increasing at wraps."""
     c = np.asarray(counter, dtype=np.int64)
     steps = np.diff(c)
-    wraps = np.concatenate([[0], np.cumsum(steps < -COUNTER_PERIOD // 2)])
+    wraps = np.concatenate([[0], np.cumsum(steps < -COUNTER_PERIOD // 2)])[: c.size]
     return c + COUNTER_PERIOD * wraps
 
 
@@ -150,16 +150,11 @@ def parse_xsens_export(path: str | os.PathLike[str]) -> XsensExport:
     path = os.fspath(path)
     with open(path, encoding="utf-8-sig") as f:
         lines = f.read().splitlines()
-    rate = None
-    body = 0
-    for body, line in enumerate(lines):  # noqa: B007 - the header index is used below
-        if line.startswith("//"):
-            m = _RATE.search(line)
-            rate = float(m.group(1)) if m else rate
-        elif line.strip():
-            break
-    else:
+    body = next((i for i, line in enumerate(lines) if line.strip() and not line.startswith("//")), None)
+    if body is None:
         raise InputError(f"{path} has no header row; export it again from MT Manager")
+    rates = [float(m.group(1)) for line in lines[:body] if (m := _RATE.search(line))]
+    rate = rates[-1] if rates else None
     if rate is None or rate <= 0:
         raise InputError(
             f"{path} has no '// Update Rate: …Hz' comment line; export with the header comments "
@@ -196,6 +191,8 @@ def parse_xsens_export(path: str | os.PathLike[str]) -> XsensExport:
         )
     keep = np.concatenate([[True], step > 0])  # drop repeated packets
     data, counter = data[keep], counter[keep]
+    if counter.size < 2:
+        raise InputError(f"{path} has {counter.size} packet(s) with Acc and Gyr; export a longer recording")
     return XsensExport(
         path=path,
         rate_hz=rate,
