@@ -189,7 +189,7 @@ def parse_xsens_export(path: str | os.PathLike[str]) -> XsensExport:
             f"{path}: PacketCounter runs backwards ({counter[k]} then {counter[k + 1]}); "
             f"export the recording again or sort the rows"
         )
-    keep = np.concatenate([[True], step > 0])  # drop repeated packets
+    keep = np.concatenate([[True], step > 0])[: counter.size]  # drop repeated packets
     data, counter = data[keep], counter[keep]
     if counter.size < 2:
         raise InputError(f"{path} has {counter.size} packet(s) with Acc and Gyr; export a longer recording")
