@@ -2,7 +2,8 @@
 
 Public API (DESIGN.md): :func:`estimate_orientation`, :func:`estimate_hinge_axis`,
 :func:`estimate_joint_center`; the whole pipeline :func:`process_trial`; and
-:class:`ImuTrial`, :class:`LegModel`, :func:`simulate`.
+:class:`ImuTrial`, :class:`LegModel`, :func:`simulate`; vendor recordings
+:func:`read_xsens`, :func:`read_mapped_csv`.
 
 Attributes are imported on first use (PEP 562): ``import lowerlimb`` is
 cheap, and each name pulls in only its own module.
@@ -28,6 +29,8 @@ _EXPORTS = {
     "ImuNoise": "simulation",
     "simulate": "simulation",
     "ImuTrial": "trial",
+    "read_mapped_csv": "io",
+    "read_xsens": "io",
 }
 
 __all__ = [
@@ -43,12 +46,15 @@ __all__ = [
     "estimate_orientation",
     "load_calibrated",
     "process_trial",
+    "read_mapped_csv",
+    "read_xsens",
     "simulate",
 ]
 
 if TYPE_CHECKING:
     from .calibration import calibrate_leg, estimate_hinge_axis, estimate_joint_center
     from .errors import InputError, LowerLimbError
+    from .io import read_mapped_csv, read_xsens
     from .leg_model import LegModel
     from .orientation import estimate_orientation
     from .pipeline import load_calibrated, process_trial

@@ -18,7 +18,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import NoReturn
 
-from . import __version__, cli_compare
+from . import __version__, cli_compare, cli_import
 from .errors import InputError, LowerLimbError
 
 EXIT_OK = 0
@@ -140,6 +140,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("dir", type=Path, metavar="DIR", help="output directory of 'lowerlimb calibrate'")
     p.add_argument("--open", action="store_true", help="also open the view in a web browser")
     cli_compare.add_parser(sub)
+    cli_import.add_parser(sub)
     return parser
 
 
@@ -258,6 +259,7 @@ COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
     "demo": cmd_demo,
     "view": cmd_view,
     "compare": cli_compare.run,
+    "import": cli_import.run,
 }
 
 
@@ -271,7 +273,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
         if args.command is None:
             raise UsageError(
-                "no command given; choose simulate, calibrate, demo or view (see 'lowerlimb --help')"
+                "no command given; choose simulate, calibrate, demo, view or import (see 'lowerlimb --help')"
             )
         with warnings.catch_warnings():
             warnings.simplefilter("default")

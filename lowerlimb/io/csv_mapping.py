@@ -1,0 +1,191 @@
+r"""``CsvMapping``: how to read one vendor's per-column CSV (a small JSON file).
+
+Schema (``format`` is optional; unknown keys are refused so that typos surface)::
+
+    {
+      "format": "lowerlimb-csv-mapping/1",
+      "delimiter": ",",              # optional, one character (default ","; "\t" for tabs)
+      "decimal": ".",                # optional, "." or "," (default ".")
+      "time": {"column": "Timestamp", "unit": "ms"},     # unit: s, ms, us, ns
+      "resample_hz": 100,            # optional: linear interpolation onto a uniform clock
+      "side": "left",                # optional, single leg only (default left)
+      "sensors": {
+        "pelvis": {
+          "acc": {"columns": ["AccX", "AccY", "AccZ"], "unit": "g"},        # m/s^2 or g
+          "gyr": {"columns": ["GyrX", "GyrY", "GyrZ"], "unit": "deg/s"},    # rad/s or deg/s
+          "mag": {"columns": ["MagX", "MagY", "MagZ"], "unit": "uT"}        # optional: uT, nT, mT, gauss
+        },
+        "thigh": {…}, "shank": {…}, "foot": {…}
+      }
+    }
+
+``sensors`` holds either ``pelvis, thigh, shank, foot`` or the two-leg names
+``pelvis, left_thigh, left_shank, left_foot, right_thigh, right_shank,
+right_foot``. ``mag`` must be given for every sensor or for none.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from .errors import MappingError
+from .recording import sensor_layout
+from .units import QUANTITY_UNITS, TIME_UNITS
+
+MAPPING_FORMAT = "lowerlimb-csv-mapping/1"
+_TOP_KEYS = {"format", "delimiter", "decimal", "time", "resample_hz", "side", "sensors"}
+
+
+@dataclass(frozen=True)
+class ColumnTriple:
+    """The x, y, z column names of one quantity and the unit they are in."""
+
+    columns: tuple[str, str, str]
+    unit: str
+
+
+@dataclass(frozen=True)
+class CsvMapping:
+    """A parsed and checked CSV mapping (see the module docstring for the JSON schema).
+
+    Attributes:
+        time_column: name of the time column.
+        time_unit: one of :data:`~lowerlimb.io.units.TIME_UNITS`.
+        sensors: ``{sensor: {"acc"|"gyr"|"mag": ColumnTriple}}``.
+        delimiter: field separator, one character.
+        decimal: decimal mark, ``"."`` or ``","``.
+        resample_hz: uniform output rate, Hz, or None to keep the source clock.
+        side: instrumented leg (single-leg mappings), or None.
+    """
+
+    time_column: str
+    time_unit: str
+    sensors: dict[str, dict[str, ColumnTriple]]
+    delimiter: str = ","
+    decimal: str = "."
+    resample_hz: float | None = None
+    side: str | None = None
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> CsvMapping:
+        """Check a mapping read from JSON.
+
+        Raises:
+            MappingError: naming the first bad field.
+        """
+        if not isinstance(data, Mapping):
+            raise MappingError("(top level)", "the mapping must be a JSON object")
+        stray = sorted(set(data) - _TOP_KEYS)
+        if stray:
+            raise MappingError(stray[0], f"unknown key; the keys are {', '.join(sorted(_TOP_KEYS))}")
+        if data.get("format", MAPPING_FORMAT) != MAPPING_FORMAT:
+            raise MappingError("format", f"expected {MAPPING_FORMAT!r}, got {data['format']!r}")
+        delimiter = _text(data, "delimiter", ",")
+        decimal = _text(data, "decimal", ".")
+        if len(delimiter) != 1:
+            raise MappingError("delimiter", f"give one character (e.g. ',' ';' '\\t'), got {delimiter!r}")
+        if decimal not in (".", ","):
+            raise MappingError("decimal", f"give '.' or ',', got {decimal!r}")
+        if decimal == delimiter:
+            raise MappingError("decimal", f"the decimal mark {decimal!r} is also the delimiter")
+        time = data.get("time")
+        if not isinstance(time, Mapping):
+            raise MappingError("time", 'give {"column": NAME, "unit": "s"|"ms"|"us"|"ns"}')
+        time_column = _text(time, "column", None, "time.column")
+        time_unit = _unit(time, "time.unit", TIME_UNITS)
+        resample = data.get("resample_hz")
+        if resample is not None and (
+            isinstance(resample, bool)
+            or not isinstance(resample, (int, float))
+            or not math.isfinite(resample)
+            or resample <= 0
+        ):
+            raise MappingError("resample_hz", f"give a positive rate in Hz, got {resample!r}")
+        side = data.get("side")
+        if side is not None and side not in ("left", "right"):
+            raise MappingError("side", f"give 'left' or 'right', got {side!r}")
+        sensors_in = data.get("sensors")
+        if not isinstance(sensors_in, Mapping) or not sensors_in:
+            raise MappingError("sensors", "give an object {segment: {acc: …, gyr: …[, mag: …]}}")
+        layout = sensor_layout(sensors_in, "sensors")
+        if side is not None and len(layout) == 7:
+            raise MappingError("side", "a two-leg mapping has no side; remove it")
+        sensors = {s: _sensor(sensors_in[s], f"sensors.{s}") for s in layout}
+        with_mag = [s for s in layout if "mag" in sensors[s]]
+        if with_mag and len(with_mag) != len(layout):
+            lacking = next(s for s in layout if "mag" not in sensors[s])
+            raise MappingError(f"sensors.{lacking}.mag", "give mag for every sensor or for none")
+        return cls(
+            time_column=time_column,
+            time_unit=time_unit,
+            sensors=sensors,
+            delimiter=delimiter,
+            decimal=decimal,
+            resample_hz=None if resample is None else float(resample),
+            side=side,
+        )
+
+    @classmethod
+    def from_json(cls, path: str | os.PathLike[str]) -> CsvMapping:
+        """Read and check a mapping JSON file.
+
+        Raises:
+            FileNotFoundError: when ``path`` does not exist.
+            MappingError: invalid JSON or a bad field.
+        """
+        path = os.fspath(path)
+        if not os.path.isfile(path):
+            raise FileNotFoundError(f"mapping file not found: {path}")
+        try:
+            with open(path, encoding="utf-8-sig") as f:
+                data = json.load(f)
+        except json.JSONDecodeError as e:
+            raise MappingError("(file)", f"{path} is not valid JSON ({e}); fix the syntax") from None
+        return cls.from_dict(data)
+
+
+def _text(d: Mapping[str, Any], key: str, default: str | None, field: str | None = None) -> str:
+    value = d.get(key, default)
+    if not isinstance(value, str) or not value:
+        raise MappingError(field or key, f"give a non-empty string, got {value!r}")
+    return value
+
+
+def _unit(d: Mapping[str, Any], field: str, units: Mapping[str, float]) -> str:
+    unit = d.get("unit")
+    if unit not in units:
+        raise MappingError(field, f"unknown unit {unit!r}; use one of {', '.join(units)}")
+    return str(unit)
+
+
+def _sensor(d: Any, field: str) -> dict[str, ColumnTriple]:
+    if not isinstance(d, Mapping):
+        raise MappingError(field, "give an object {acc: …, gyr: …[, mag: …]}")
+    stray = sorted(set(d) - set(QUANTITY_UNITS))
+    if stray:
+        raise MappingError(f"{field}.{stray[0]}", "unknown quantity; use acc, gyr and optionally mag")
+    out = {}
+    for q in QUANTITY_UNITS:
+        if q not in d:
+            if q == "mag":
+                continue
+            raise MappingError(f"{field}.{q}", f'missing; give {{"columns": [X, Y, Z], "unit": …}} for {q}')
+        entry = d[q]
+        if not isinstance(entry, Mapping):
+            raise MappingError(f"{field}.{q}", 'give {"columns": [X, Y, Z], "unit": …}')
+        cols = entry.get("columns")
+        if (
+            not isinstance(cols, (list, tuple))
+            or len(cols) != 3
+            or not all(isinstance(c, str) and c for c in cols)
+        ):
+            raise MappingError(f"{field}.{q}.columns", f"give three column names [X, Y, Z], got {cols!r}")
+        out[q] = ColumnTriple(
+            (cols[0], cols[1], cols[2]), _unit(entry, f"{field}.{q}.unit", QUANTITY_UNITS[q])
+        )
+    return out

@@ -1,0 +1,53 @@
+"""Errors of the vendor importers; each carries the data that explains it and names the fix."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from lowerlimb.errors import InputError
+
+
+class MappingError(InputError):
+    """A sensor mapping (``--map`` or a CSV mapping JSON) is wrong; ``field`` names the bad entry."""
+
+    def __init__(self, field: str, message: str) -> None:
+        self.field = field
+        super().__init__(f"mapping field '{field}': {message}")
+
+
+class SensorFileError(InputError):
+    """No file, or more than one file, holds the recording of one sensor ID."""
+
+    def __init__(self, sensor_id: str, paths: Sequence[str], message: str) -> None:
+        self.sensor_id = sensor_id
+        self.paths = list(paths)
+        super().__init__(message)
+
+
+class ColumnNotFoundError(InputError):
+    """A vendor file lacks a column the mapping or the format requires."""
+
+    def __init__(self, column: str, available: Sequence[str], path: str) -> None:
+        self.column = column
+        self.available = list(available)
+        self.path = path
+        shown = ", ".join(self.available[:20]) + (", …" if len(self.available) > 20 else "")
+        super().__init__(
+            f"{path} has no column '{column}' (it has: {shown}); "
+            f"export it from the vendor software or fix the column name in the mapping"
+        )
+
+
+class PacketGapError(InputError):
+    """A run of missing packets (or samples) is too long to fill by interpolation."""
+
+    def __init__(self, sensor: str, start_s: float, length_s: float, limit_s: float) -> None:
+        self.sensor = sensor
+        self.start_s = start_s
+        self.length_s = length_s
+        self.limit_s = limit_s
+        super().__init__(
+            f"{sensor} has a gap of {length_s:.3g} s at {start_s:.3f} s, longer than the "
+            f"{limit_s:.3g} s that may be filled by interpolation; cut the recording before or "
+            f"after the gap, or raise ImportParams.max_gap_s"
+        )

@@ -1,0 +1,190 @@
+"""Read a vendor's per-column CSV into a trial through a :class:`~lowerlimb.io.csv_mapping.CsvMapping`.
+
+The mapping JSON (schema in :mod:`lowerlimb.io.csv_mapping`) names the time
+column and its unit, the x, y, z columns of each sensor's acc, gyr and
+(optionally) mag with their units, the delimiter and decimal mark, and
+optionally ``resample_hz`` and ``side``.
+
+Choices:
+
+- Time is shifted to start at 0 s (absolute clocks such as epoch
+  nanoseconds become relative).
+- Without ``resample_hz`` the source clock is kept and must already be
+  uniform (``ImuTrial.validate`` checks it). With ``resample_hz`` every
+  signal is linearly interpolated onto ``0, 1/rate, …`` up to the last
+  source sample; the source time must increase, and an interval between two
+  source samples longer than :attr:`ImportParams.max_gap_s` is refused
+  (interpolating across it would invent motion).
+- Units are converted with the factors of :mod:`lowerlimb.io.units`.
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from lowerlimb.conventions import FloatArray
+from lowerlimb.errors import InputError, NonFiniteValueError, TimeAxisError, TooShortError
+from lowerlimb.trial import MIN_DURATION_S, ImuTrial
+
+from .csv_mapping import CsvMapping
+from .errors import ColumnNotFoundError, PacketGapError
+from .params import ImportParams
+from .recording import ImportedRecording
+from .units import QUANTITY_UNITS, TIME_UNITS
+
+
+def _as_mapping(mapping: CsvMapping | Mapping[str, Any] | str | os.PathLike[str]) -> CsvMapping:
+    if isinstance(mapping, CsvMapping):
+        return mapping
+    if isinstance(mapping, Mapping):
+        return CsvMapping.from_dict(mapping)
+    return CsvMapping.from_json(mapping)
+
+
+def _read_columns(path: str, m: CsvMapping, names: list[str]) -> FloatArray:
+    """(N, len(names)) floats of the named columns; empty cells are NaN."""
+    with open(path, newline="", encoding="utf-8-sig") as f:
+        rows = [r for r in csv.reader(f, delimiter=m.delimiter) if any(c.strip() for c in r)]
+    if not rows:
+        raise InputError(f"{path} is empty; give a CSV with a header row")
+    header = [h.strip() for h in rows[0]]
+    for n in names:
+        if n not in header:
+            raise ColumnNotFoundError(n, header, path)
+    idx = [header.index(n) for n in names]
+    out = np.full((len(rows) - 1, len(names)), np.nan)
+    for r, row in enumerate(rows[1:]):
+        for j, i in enumerate(idx):
+            text = row[i].strip() if i < len(row) else ""
+            if not text:
+                continue
+            try:
+                out[r, j] = float(text.replace(",", ".") if m.decimal == "," else text)
+            except ValueError:
+                raise InputError(
+                    f"{path} data row {r + 1}: column '{names[j]}' is not a number ({text!r}); "
+                    f"fix the cell, or the delimiter/decimal of the mapping"
+                ) from None
+    return out
+
+
+def resample_uniform(
+    time_s: FloatArray, data: FloatArray, rate_hz: float, max_gap_s: float, names: list[str]
+) -> tuple[FloatArray, FloatArray]:
+    """Linear interpolation onto a uniform clock.
+
+    Args:
+        time_s: (N,) source times, s, strictly increasing, starting at 0.
+        data: (N, C) samples (any units).
+        rate_hz: output rate, Hz.
+        max_gap_s: longest source interval bridged, s.
+        names: C column names (for messages).
+
+    Returns:
+        ((M,) times ``k / rate_hz`` up to ``time_s[-1]``, (M, C) interpolated samples).
+
+    Raises:
+        NonFiniteValueError: a NaN or empty cell in ``data``.
+        TimeAxisError: non-increasing source time.
+        PacketGapError: a source interval longer than ``max_gap_s``.
+    """
+    bad = np.argwhere(~np.isfinite(data))
+    if bad.size:
+        raise NonFiniteValueError(names[bad[0][1]], int(bad[0][0]) + 1)
+    dt = np.diff(time_s)
+    if np.any(dt <= 0):
+        k = int(np.flatnonzero(dt <= 0)[0])
+        raise TimeAxisError(
+            f"time is not strictly increasing at data row {k + 2} ({time_s[k]:.6g} s then "
+            f"{time_s[k + 1]:.6g} s); sort the rows and drop duplicates before resampling"
+        )
+    if dt.size and dt.max() > max_gap_s:
+        k = int(np.argmax(dt))
+        raise PacketGapError("the recording", float(time_s[k]), float(dt[k]), max_gap_s)
+    n = int(np.floor(time_s[-1] * rate_hz + 1e-9)) + 1
+    grid = np.arange(n) / rate_hz
+    return grid, np.column_stack([np.interp(grid, time_s, data[:, j]) for j in range(data.shape[1])])
+
+
+def load_mapped_csv(
+    path: str | os.PathLike[str],
+    mapping: CsvMapping | Mapping[str, Any] | str | os.PathLike[str],
+    *,
+    params: ImportParams | None = None,
+) -> ImportedRecording:
+    """Read a per-column vendor CSV, one leg or two legs.
+
+    Args:
+        path: the CSV file.
+        mapping: a :class:`CsvMapping`, its JSON dict, or the path of the JSON file.
+        params: thresholds (default :class:`ImportParams`).
+
+    Returns:
+        The recording in trial units (time from 0 s, m/s², rad/s, µT).
+
+    Raises:
+        FileNotFoundError: the CSV or mapping file does not exist.
+        MappingError: a bad mapping field.
+        ColumnNotFoundError: a mapped column is not in the CSV header.
+        NonFiniteValueError, TimeAxisError, PacketGapError: bad time or samples when resampling.
+        InputError: an empty file or a non-numeric cell.
+    """
+    params = params or ImportParams()
+    m = _as_mapping(mapping)
+    path = os.fspath(path)
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"CSV file not found: {path}")
+    names = [m.time_column]
+    for quantities in m.sensors.values():
+        for q in QUANTITY_UNITS:
+            if q in quantities:
+                names += list(quantities[q].columns)
+    raw = _read_columns(path, m, names)
+    if raw.shape[0] < 2:
+        raise TooShortError(0.0, MIN_DURATION_S)
+    t = raw[:, 0] * TIME_UNITS[m.time_unit]
+    if not np.isfinite(t[0]):
+        raise NonFiniteValueError(m.time_column, 1)
+    t = t - t[0]
+    data = raw[:, 1:]
+    if m.resample_hz is not None:
+        t, data = resample_uniform(t, data, m.resample_hz, params.max_gap_s, names[1:])
+    signals: dict[str, dict[str, FloatArray]] = {q: {} for q in QUANTITY_UNITS}
+    col = 0
+    for sensor, quantities in m.sensors.items():
+        for q in QUANTITY_UNITS:
+            if q in quantities:
+                factor = QUANTITY_UNITS[q][quantities[q].unit]
+                signals[q][sensor] = np.ascontiguousarray(data[:, col : col + 3] * factor)
+                col += 3
+    return ImportedRecording(
+        time_s=t,
+        acc=signals["acc"],
+        gyr=signals["gyr"],
+        mag=signals["mag"] or None,
+        side=None if len(m.sensors) == 7 else (m.side or "left"),
+        source=path,
+    )
+
+
+def read_mapped_csv(
+    path: str | os.PathLike[str],
+    mapping: CsvMapping | Mapping[str, Any] | str | os.PathLike[str],
+    *,
+    params: ImportParams | None = None,
+) -> ImuTrial:
+    """Read a single-leg per-column vendor CSV into a validated :class:`ImuTrial`.
+
+    Same arguments as :func:`load_mapped_csv`. A two-leg mapping raises
+    :class:`InputError`: use :func:`load_mapped_csv` and :meth:`ImportedRecording.to_csv`.
+
+    Raises:
+        FileNotFoundError, MappingError, ColumnNotFoundError, InputError: as
+        :func:`load_mapped_csv`, plus any problem of :meth:`ImuTrial.validate`.
+    """
+    return load_mapped_csv(path, mapping, params=params).to_trial()
