@@ -66,16 +66,32 @@ def load_leg(data: Path, side: str) -> ll.ImuTrial:
 
 
 def straight_passes(vicon: dict, side: str) -> np.ndarray:
-    """Frames of the walking window outside the turn (pelvis heading within 30° of a pass's mean)."""
-    mid = 0.5 * (vicon["LPSI"] + vicon["RPSI"])
-    v = np.gradient(mid[:, :2], axis=0)
-    heading = np.unwrap(np.arctan2(v[:, 1], v[:, 0]))
+    """Frames of the walking window on the two straight passes.
+
+    A frame counts when the sacrum (mean of LPSI/RPSI) moves faster than 0.5 m/s
+    within 20° of the heading of the first or the last quarter of the window,
+    and lies at least 0.5 s from any frame that does not (Plug-in Gait's hip
+    Euler angles pass near gimbal lock in the turn).
+    """
+    mid = 0.5 * (vicon["LPSI"] + vicon["RPSI"]) / 1000.0
+    v = np.gradient(mid[:, :2], axis=0) * 100.0
+    speed = np.linalg.norm(v, axis=1)
+    heading = np.arctan2(v[:, 1], v[:, 0])
     idx = np.arange(WALK.start, WALK.stop)
     h = heading[idx]
-    first = np.nanmedian(h[: len(h) // 4])
-    last = np.nanmedian(h[-len(h) // 4 :])
-    ok = (np.abs(h - first) < np.radians(30)) | (np.abs(h - last) < np.radians(30))
-    return idx[ok]
+    quarter = len(h) // 4
+
+    def near(ref: float) -> np.ndarray:
+        return np.abs(np.angle(np.exp(1j * (h - ref)))) < np.radians(20)
+
+    first = float(np.angle(np.mean(np.exp(1j * h[:quarter]))))
+    last = float(np.angle(np.mean(np.exp(1j * h[-quarter:]))))
+    ok = (near(first) | near(last)) & (speed[idx] > 0.5)
+    bad = np.flatnonzero(~ok)
+    keep = np.ones(len(idx), dtype=bool)
+    for b in bad:
+        keep[max(0, b - 50) : b + 51] = False
+    return idx[keep]
 
 
 def _line_distance(point: np.ndarray, on_line: np.ndarray, axis: np.ndarray) -> float:
