@@ -6,17 +6,12 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _common import demo_output, demo_parser, markdown_table
 
-from lowerlimb.demo import (
-    angle_rmse_deg,
-    compare_with_truth,
-    demo_output,
-    demo_parser,
-    markdown_table,
-    plot_angles,
-)
+from lowerlimb.demo import angle_rmse_deg, compare_with_truth
 from lowerlimb.pipeline import process_trial
 from lowerlimb.simulation import ImuNoise, simulate
+from lowerlimb.viz.plots import plot_angles
 
 
 def main(argv: list[str] | None = None) -> dict[str, float]:

@@ -8,9 +8,10 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from _common import demo_output, demo_parser, markdown_table
 
 from lowerlimb.calibration import calibrate_leg
-from lowerlimb.demo import compare_with_truth, demo_output, demo_parser, markdown_table
+from lowerlimb.demo import compare_with_truth
 from lowerlimb.simulation import ImuNoise, simulate
 
 METHODS = ("gn", "casadi", "dwpso", "gwo", "dwpso+casadi", "gwo+casadi")

@@ -7,12 +7,12 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
+from _common import demo_output, demo_parser, markdown_table
 from scipy.interpolate import make_interp_spline
 from scipy.signal import butter, find_peaks, sosfiltfilt
 
 from lowerlimb.conventions import FloatArray, quat_to_matrix
-from lowerlimb.demo import demo_output, demo_parser, markdown_table
-from lowerlimb.leg_model import DOF_NAMES
+from lowerlimb.model.leg_model import DOF_NAMES
 from lowerlimb.pipeline import process_trial
 from lowerlimb.simulation import ImuNoise, Simulation, simulate
 

@@ -21,13 +21,13 @@ _EXPORTS = {
     "estimate_joint_center": "calibration",
     "InputError": "errors",
     "LowerLimbError": "errors",
-    "LegModel": "leg_model",
+    "LegModel": "model.leg_model",
     "estimate_orientation": "orientation",
-    "load_calibrated": "pipeline",
+    "load_calibrated": "outputs",
     "process_trial": "pipeline",
     "ImuNoise": "simulation",
     "simulate": "simulation",
-    "ImuTrial": "trial",
+    "ImuTrial": "io.trial",
 }
 
 __all__ = [
@@ -49,11 +49,12 @@ __all__ = [
 if TYPE_CHECKING:
     from .calibration import calibrate_leg, estimate_hinge_axis, estimate_joint_center
     from .errors import InputError, LowerLimbError
-    from .leg_model import LegModel
+    from .io.trial import ImuTrial
+    from .model.leg_model import LegModel
     from .orientation import estimate_orientation
-    from .pipeline import load_calibrated, process_trial
+    from .outputs import load_calibrated
+    from .pipeline import process_trial
     from .simulation import ImuNoise, simulate
-    from .trial import ImuTrial
 
 
 def __getattr__(name: str) -> Any:

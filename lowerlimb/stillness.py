@@ -1,7 +1,7 @@
 """The still period at the start of a recording, and the gyroscope bias measured over it.
 
 One detector for the whole library: the calibration's gyro-bias removal and the
-trial's standing reference posture (:meth:`lowerlimb.trial.ImuTrial.standing_samples`)
+trial's standing reference posture (:meth:`lowerlimb.io.trial.ImuTrial.standing_samples`)
 both use :func:`initial_still_samples`.
 
 Every trial should start with ≥ 1 s of standing still (DESIGN.md). A constant

@@ -6,10 +6,10 @@ import pytest
 import yourdfpy
 
 from lowerlimb.conventions import SENSORS
-from lowerlimb.leg_geometry import LegGeometry
-from lowerlimb.leg_model import LegModel
+from lowerlimb.model.geometry import LegGeometry
+from lowerlimb.model.leg_model import LegModel
+from lowerlimb.model.templates import render_template, template_path
 from lowerlimb.simulation.placements import random_placements
-from lowerlimb.templates import render_template, template_path
 
 FRAMES = ["pelvis", "thigh", "shank", "foot"] + [f"imu_{s}" for s in SENSORS]
 

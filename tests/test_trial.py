@@ -9,7 +9,7 @@ from lowerlimb.errors import (
     TooShortError,
     UnitError,
 )
-from lowerlimb.trial import ImuTrial, StandingStartWarning
+from lowerlimb.io.trial import ImuTrial, StandingStartWarning
 
 
 def _trial():

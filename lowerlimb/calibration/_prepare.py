@@ -12,14 +12,13 @@ from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.constraints.angular_acceleration import angular_acceleration, window_length
 from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass
 from lowerlimb.constraints.spherical import SphericalData
+from lowerlimb.conventions import MAX_GYRO_RAD_S as GYRO_DEG_PER_S_THRESHOLD
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError, NonFiniteValueError, ShapeError, UnitError
 from lowerlimb.stillness import gyro_bias, initial_still_samples
 
 #: Shortest signal accepted by the calibration, s.
 MIN_DURATION_S = 1.0
-#: Gyro readings above this norm (rad/s) look like deg/s.
-GYRO_DEG_PER_S_THRESHOLD = 35.0
 
 
 def check_rate(rate_hz: float) -> float:

@@ -59,8 +59,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
-from numpy.typing import NDArray
 
+from lowerlimb.conventions import FloatArray
 from lowerlimb.orientation._filter_inputs import loop_inputs, magnetic_reference
 from lowerlimb.orientation._quaternion_nb import (
     earth_lowpass,
@@ -74,8 +74,6 @@ from lowerlimb.orientation._wahba_pairs_nb import hemisphere_sign, measure_pairs
 from lowerlimb.orientation.esoq2 import esoq2_kernel
 from lowerlimb.orientation.fuzzy_fusion import fuzzy_gain
 from lowerlimb.orientation.initialisation import InitialState
-
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)

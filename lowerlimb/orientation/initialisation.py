@@ -13,12 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from lowerlimb.conventions import GRAVITY_MPS2, quat_from_matrix
+from lowerlimb.conventions import GRAVITY_MPS2, FloatArray, quat_from_matrix
 from lowerlimb.errors import InputError
-
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)

@@ -44,8 +44,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
-from numpy.typing import NDArray
 
+from lowerlimb.conventions import FloatArray
 from lowerlimb.orientation._filter_inputs import loop_inputs
 from lowerlimb.orientation._quaternion_nb import (
     earth_lowpass,
@@ -57,8 +57,6 @@ from lowerlimb.orientation._quaternion_nb import (
     rotate_to_earth,
 )
 from lowerlimb.orientation.initialisation import InitialState
-
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)

@@ -46,8 +46,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
-from numpy.typing import NDArray
 
+from lowerlimb.conventions import FloatArray
 from lowerlimb.orientation._filter_inputs import loop_inputs, magnetic_reference
 from lowerlimb.orientation._magnetic_nb import mag_heading_error
 from lowerlimb.orientation._quaternion_nb import (
@@ -60,8 +60,6 @@ from lowerlimb.orientation._quaternion_nb import (
     up_in_sensor,
 )
 from lowerlimb.orientation.initialisation import InitialState
-
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)

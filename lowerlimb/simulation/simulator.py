@@ -31,9 +31,9 @@ from ..conventions import (
     quat_make_continuous,
 )
 from ..errors import InputError
-from ..leg_geometry import LegGeometry
-from ..leg_model import DOF_NAMES, LegModel
-from ..trial import ImuTrial
+from ..io.trial import ImuTrial
+from ..model.geometry import LegGeometry
+from ..model.leg_model import DOF_NAMES, LegModel
 from .motions import MOTION_FUNCTIONS, MOTIONS, smoothstep
 from .noise import ImuNoise, SoftTissue
 from .placements import random_placements

@@ -17,8 +17,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .conventions import GRAVITY_MPS2, SENSORS, FloatArray, check_side
-from .errors import (
+from ..conventions import GRAVITY_MPS2, MAX_GYRO_RAD_S, MIN_MEDIAN_ACC_MPS2, SENSORS, FloatArray, check_side
+from ..errors import (
     InputError,
     MissingColumnError,
     NonFiniteValueError,
@@ -26,17 +26,12 @@ from .errors import (
     TooShortError,
     UnitError,
 )
-from .stillness import initial_still_samples
+from ..stillness import initial_still_samples
 
 #: Lowest sampling rate accepted, Hz: below it the time column is taken to be in ms.
 MIN_RATE_HZ = 5.0
 #: Shortest trial accepted, s.
 MIN_DURATION_S = 2.0
-#: A gyro whose largest angular-rate norm exceeds this (rad/s ≈ 2000 °/s, the
-#: full scale of common IMUs) is taken to be in deg/s.
-GYRO_DEG_PER_S_THRESHOLD = 35.0
-#: An accelerometer whose median norm is below this (m/s²) is taken to be in g.
-ACC_G_THRESHOLD = 3.0
 #: Largest relative deviation of one time step from the median step.
 TIME_JITTER_TOLERANCE = 0.25
 
@@ -147,7 +142,7 @@ class ImuTrial:
             )
         for sensor in SENSORS:
             gmax = float(np.max(np.linalg.norm(self.gyr[sensor], axis=1)))
-            if gmax > GYRO_DEG_PER_S_THRESHOLD:
+            if gmax > MAX_GYRO_RAD_S:
                 raise UnitError(
                     f"{sensor}_gyr",
                     gmax,
@@ -155,7 +150,7 @@ class ImuTrial:
                     f"the trial format expects rad/s (multiply by π/180)",
                 )
             amed = float(np.median(np.linalg.norm(self.acc[sensor], axis=1)))
-            if amed < ACC_G_THRESHOLD:
+            if amed < MIN_MEDIAN_ACC_MPS2:
                 raise UnitError(
                     f"{sensor}_acc",
                     amed,

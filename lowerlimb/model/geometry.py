@@ -24,8 +24,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import yourdfpy
 
-from .anthropometry import SegmentInertia, ankle_height_m, hip_spacing_m, segment_inertias
-from .conventions import (
+from ..conventions import (
     JOINT_AXIS_SIGNS,
     JOINT_DOF_NAMES,
     JOINTS,
@@ -33,7 +32,8 @@ from .conventions import (
     FloatArray,
     check_side,
 )
-from .errors import InputError
+from ..errors import InputError
+from .anthropometry import SegmentInertia, ankle_height_m, hip_spacing_m, segment_inertias
 
 #: Segment that carries each sensor.
 SENSOR_SEGMENT = {"pelvis": "pelvis", "thigh": "thigh", "shank": "shank", "foot": "foot"}
@@ -89,7 +89,7 @@ class LegGeometry:
             (= thigh frame rotated by the knee origin), pointing to the right.
         sensor_placements: ``{sensor: (4, 4)}`` pose of each IMU frame in its
             segment frame (rotation maps sensor to segment coordinates).
-        inertias: de Leva segment inertias (see :mod:`lowerlimb.anthropometry`).
+        inertias: de Leva segment inertias (see :mod:`lowerlimb.model.anthropometry`).
     """
 
     side: str

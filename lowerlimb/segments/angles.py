@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .conventions import JOINTS, FloatArray, joint_angles_from_matrix, quat_to_matrix
+from ..conventions import JOINTS, FloatArray, joint_angles_from_matrix, quat_to_matrix
 
 #: (proximal, distal) segment of each joint.
 JOINT_SEGMENT_PAIRS: dict[str, tuple[str, str]] = {

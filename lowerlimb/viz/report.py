@@ -4,7 +4,7 @@ The page holds, with nothing fetched from the network:
 
 - the calibrated leg in 3-D (meshcat, animated over the trial with its play
   controls and time slider), in an ``<iframe srcdoc>`` carrying meshcat's
-  JavaScript inline (:mod:`lowerlimb.scene`);
+  JavaScript inline (:mod:`lowerlimb.viz.scene`);
 - the calibration table: joint centres in each sensor frame (mm, with their
   standard deviations when the calibration gives them), the knee axis in the
   thigh and shank sensor frames, RMS residuals and condition numbers;
@@ -28,10 +28,10 @@ from typing import Any
 
 import numpy as np
 
-from . import __version__
-from .conventions import ANGLE_COLUMNS, JOINTS, POSITION_COLUMNS, FloatArray
-from .errors import InputError, ShapeError
-from .leg_model import LegModel
+from .. import __version__
+from ..conventions import ANGLE_COLUMNS, JOINTS, POSITION_COLUMNS, FloatArray
+from ..errors import InputError, ShapeError
+from ..model.leg_model import LegModel
 from .scene import CommandRecorder, draw_leg, standalone_html
 
 #: Largest number of animation frames embedded in the report (keeps the file small).
