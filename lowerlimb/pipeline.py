@@ -36,7 +36,7 @@ from .orientation import estimate_orientation
 from .orientation.magnetic import check_magnetic_field
 from .s2j import S2JModel, constant_s2j_from_calibration
 from .segments.tracking import SegmentMotion, track_segments
-from .stillness import gyro_bias, initial_still_samples
+from .stillness import StillPeriod, gyro_bias
 
 __all__ = [
     "MAG_FILTERS",
@@ -135,22 +135,28 @@ class Orientations:
     magnetometer_note: str = ""
 
 
-def calibrate_joints(trial: ImuTrial, method: str, previous: LegCalibration | None = None) -> LegCalibration:
+def calibrate_joints(
+    trial: ImuTrial, method: str, still: StillPeriod, previous: LegCalibration | None = None
+) -> LegCalibration:
     """Stage 1: calibrate the joints on this trial, or reuse ``previous`` with this trial's gyro bias.
+
+    Args:
+        trial: the trial.
+        method: joint-constraint solver.
+        still: the trial's still start (:meth:`ImuTrial.still_period`).
+        previous: a calibration of the same sensor placements to reuse.
 
     Raises:
         InputError: ``previous`` is of the other leg.
     """
     if previous is None:
-        return calibrate_leg(trial, method=method)
+        return calibrate_leg(trial, method=method, still=still)
     if previous.side != trial.side:
         raise InputError(
             f"the calibration is of the {previous.side} leg but the trial is the {trial.side} "
             f"leg; pass --side {previous.side} or another calibration"
         )
-    n_still = initial_still_samples(
-        [trial.gyr[s] for s in SENSORS], [trial.acc[s] for s in SENSORS], trial.rate_hz
-    )
+    n_still = still.samples()
     return replace(
         previous,
         runtime_s=0.0,
@@ -257,10 +263,11 @@ def process_trial(
         InputError: a calibration of the other leg, or bad options.
     """
     clock = _Stopwatch(progress)
-    reference = trial.reference_samples()
+    still = trial.still_period()  # detected once, handed on
+    reference = trial.reference_samples(still)
 
     clock.start()
-    calib = calibrate_joints(trial, method, calibration)
+    calib = calibrate_joints(trial, method, still, calibration)
     clock.stop("joint calibration")
 
     clock.start()

@@ -15,7 +15,7 @@ from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import MAX_GYRO_RAD_S as GYRO_DEG_PER_S_THRESHOLD
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError, NonFiniteValueError, ShapeError, UnitError
-from lowerlimb.stillness import gyro_bias, initial_still_samples
+from lowerlimb.stillness import StillPeriod, detect_still_period, gyro_bias
 
 #: Shortest signal accepted by the calibration, s.
 MIN_DURATION_S = 1.0
@@ -122,6 +122,7 @@ def prepare_signals(
     gyr: Mapping[str, FloatArray],
     rate_hz: float,
     options: CalibrationOptions,
+    still: StillPeriod | None = None,
 ) -> PreparedSignals:
     """Remove the gyro bias of a still start, low-pass (adaptively) and differentiate the gyros.
 
@@ -130,15 +131,15 @@ def prepare_signals(
         gyr: ``{sensor: (N, 3)}`` checked gyro signals, rad/s.
         rate_hz: sampling rate, Hz.
         options: calibration options (window, bias removal).
+        still: the still start when already detected on these signals (else detected here).
 
     Returns:
         The prepared signals.
     """
     n_still = 0
     if options.remove_gyro_bias:
-        n_still = initial_still_samples(
-            list(gyr.values()), list(acc.values()), rate_hz, min_duration_s=options.still_min_s
-        )
+        found = still or detect_still_period(list(gyr.values()), list(acc.values()), rate_hz)
+        n_still = found.samples(options.still_min_s)
     bias = {k: gyro_bias(g, n_still) for k, g in gyr.items()}
     gyr_c = {k: g - bias[k] for k, g in gyr.items()}
     noise: dict[str, float | None] = {

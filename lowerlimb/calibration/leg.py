@@ -38,6 +38,7 @@ from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.conventions import JOINT_SENSORS, SENSORS, FloatArray
 from lowerlimb.errors import InputError
+from lowerlimb.stillness import StillPeriod
 
 __all__ = ["CALIBRATION_FORMAT", "LegCalibration", "calibrate_leg"]
 
@@ -138,6 +139,7 @@ def calibrate_leg(
     *,
     method: str = "casadi",
     options: CalibrationOptions | None = None,
+    still: StillPeriod | None = None,
 ) -> LegCalibration:
     """Calibrate hip, knee and ankle of one leg from a four-IMU trial (Hu et al. 2021).
 
@@ -148,6 +150,8 @@ def calibrate_leg(
         method: ``"casadi"`` (default), ``"gn"``, ``"dwpso"``, ``"gwo"``,
             ``"dwpso+casadi"`` or ``"gwo+casadi"``.
         options: tuning parameters (defaults: :class:`CalibrationOptions`).
+        still: the trial's still start when already detected
+            (:meth:`ImuTrial.still_period <lowerlimb.io.trial.ImuTrial.still_period>`).
 
     Returns:
         The calibration; ``to_dict()`` is the calibration.json document.
@@ -182,7 +186,7 @@ def calibrate_leg(
     check_duration(n, rate, opts)
 
     t0 = time.perf_counter()
-    sig = prepare_signals(acc, gyr, rate, opts)
+    sig = prepare_signals(acc, gyr, rate, opts, still)
 
     p, c, _ = JOINT_SENSORS["hip"]
     hip = fit_spherical(
