@@ -1,6 +1,6 @@
 """lowerlimb: wearable IMU motion capture of the human leg.
 
-Public API (DESIGN.md): :func:`estimate_orientation`, :func:`estimate_hinge_axis`,
+Public API (docs/architecture.md): :func:`estimate_orientation`, :func:`estimate_hinge_axis`,
 :func:`estimate_joint_center`; the whole pipeline :func:`process_trial`; and
 :class:`ImuTrial`, :class:`LegModel`, :func:`simulate`.
 

@@ -24,7 +24,7 @@ Segment frames (ISB)
 
 Joint angles
     ``R_prox_dist = R_z(s_f·flexion) R_x(s_a·adduction) R_y(s_r·rotation)``
-    (Hu et al. 2021 eq. 39, corrected as in NOTES.md), with per-joint/per-side
+    (Hu et al. 2021 eq. 39, corrected as in docs/methods.md), with per-joint/per-side
     signs :data:`JOINT_AXIS_SIGNS` chosen so that the clinical signs hold on
     both sides: hip and knee flexion +, ankle dorsiflexion +,
     adduction/inversion +, internal rotation +. Zero = the standing

@@ -43,7 +43,7 @@ class MissingColumnError(InputError):
         super().__init__(
             f"missing column '{column}'{where}; a trial needs time and "
             f"<sensor>_acc_x..z, <sensor>_gyr_x..z for pelvis, thigh, shank, foot "
-            f"(see DESIGN.md, trial CSV)"
+            f"(see docs/formats.md, trial CSV)"
         )
 
 

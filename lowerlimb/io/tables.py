@@ -1,4 +1,4 @@
-"""Writers and readers of the DESIGN.md output tables ``angles.csv`` and ``positions.csv``."""
+"""Writers and readers of the output tables (docs/formats.md) ``angles.csv`` and ``positions.csv``."""
 
 from __future__ import annotations
 

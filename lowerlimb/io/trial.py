@@ -1,4 +1,4 @@
-"""``ImuTrial``: a four-IMU recording, read from and written to the DESIGN.md trial CSV.
+"""``ImuTrial``: a four-IMU recording, read from and written to the trial CSV (docs/formats.md).
 
 CSV format: a header row; ``time`` in s; then for each sensor in
 ``pelvis, thigh, shank, foot``: ``<sensor>_acc_{x,y,z}`` (m/s², specific

@@ -3,7 +3,7 @@
 Segment origins sit at the proximal joint centre (thigh: hip, shank: knee,
 foot: ankle); the pelvis keeps the template's hip offset. The knee centre is
 taken on the calibrated axis, in the plane through the hip centre normal to
-the axis (any point of the axis is a valid hinge centre, NOTES.md on eq. 16),
+the axis (any point of the axis is a valid hinge centre, docs/methods.md on eq. 16),
 and the same shift along the axis is applied in the shank sensor. Because the
 segment frames are the ones the joint angles are computed in, the model's
 joint coordinates reproduce the measured relative orientations exactly, and

@@ -135,7 +135,7 @@ class LegModel:
     # ------------------------------------------------------------ sensor-frame views
 
     def joint_center_in_sensor(self, joint: str, sensor: str) -> FloatArray:
-        """(3,) joint centre in a sensor frame (DESIGN.md convention: sensor origin → centre), m.
+        """(3,) joint centre in a sensor frame (docs/conventions.md: sensor origin → centre), m.
 
         ``sensor`` must be the joint's parent or child sensor; the child's value
         is the zero-posture one (exact for any posture at a hinge or spherical joint).
@@ -166,7 +166,7 @@ class LegModel:
         return np.asarray(self.geometry.sensor_placements[sensor][:3, :3].T @ axis_seg)
 
     def calibration_dict(self, method: str = "truth") -> dict[str, object]:
-        """The model's joint parameters in the DESIGN.md ``calibration.json`` schema."""
+        """The model's joint parameters in the ``calibration.json`` schema (docs/formats.md)."""
         joints: dict[str, object] = {}
         from ..conventions import JOINT_SENSORS
 

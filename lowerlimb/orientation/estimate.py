@@ -133,7 +133,7 @@ def estimate_orientation(
             :class:`QuestKfParams`); ``None`` uses the benchmarked defaults.
         remove_bias: Estimate the gyro bias as the mean rate of the still start
             and subtract it (nothing is subtracted when the start moves).
-        gyro_timing: ``"instantaneous"`` (DESIGN.md: sample k is the angular
+        gyro_timing: ``"instantaneous"`` (docs/conventions.md: sample k is the angular
             velocity at t_k) or ``"interval_mean"`` (sample k is the mean rate
             over (t_{k-1}, t_k], as many IMUs with internal integration
             deliver). The filters rotate by the mean rate of each interval, so

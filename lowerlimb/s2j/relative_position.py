@@ -141,7 +141,7 @@ def chain_position(
     """Pelvis-to-foot position, eq. 3: ``p_PF = p_PT + R_PT p_TS + R_PT R_TS p_SF``.
 
     (The print of eq. 3 is garbled; this is the composition of rigid
-    transforms, see NOTES.md.)
+    transforms, see docs/methods.md.)
 
     Args:
         p_PT: (3,) or (N, 3) thigh sensor relative to the pelvis sensor, pelvis frame, m.

@@ -9,7 +9,7 @@ paper leaves them open):
   right) — the primary axis, so knee flexion is exactly about it; y = from the
   knee centre to the hip centre, made orthogonal to z; x = y × z (anterior).
   The knee centre's position along the axis does not change this frame.
-* **Pelvis, shank, foot**: DESIGN.md defines zero angles as the standing
+* **Pelvis, shank, foot**: docs/conventions.md defines zero angles as the standing
   reference posture, so at the reference every segment frame has the thigh
   frame's orientation in the earth frame. Each one is therefore the thigh frame
   at the reference, carried by its own sensor:

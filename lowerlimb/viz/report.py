@@ -65,7 +65,7 @@ def write_report(
         angles_rad: (N, 9) ISB joint angles, rad, angles.csv order.
         positions_m: (N, 6) pelvis→foot sensor and hip→ankle centre vectors in
             the pelvis sensor frame, m, positions.csv order.
-        calibration: the calibration.json document (DESIGN.md schema; the
+        calibration: the calibration.json document (docs/formats.md schema; the
             optional extras ``rms_residual_unit``, ``condition_number``,
             ``center_std_in_*_sensor``, ``axis_std_deg_in_*_sensor``,
             ``rms_residual_axis`` and ``warnings`` are shown when present).
@@ -84,7 +84,7 @@ def write_report(
     if not isinstance(joints, Mapping) or any(j not in joints for j in JOINTS):
         raise InputError(
             "the calibration has no 'joints' entry with hip, knee and ankle; "
-            "pass the calibration.json document (DESIGN.md schema)"
+            "pass the calibration.json document (docs/formats.md schema)"
         )
     page = render_report(
         model=model,
