@@ -26,3 +26,10 @@ def demo_output(args: argparse.Namespace, name: str) -> Path:
     out = Path(args.out) / name
     out.mkdir(parents=True, exist_ok=True)
     return out
+
+
+def publish(out: Path, name: str, table: str) -> None:
+    """Write the demo's Markdown table to ``out/<name>.md`` and print it."""
+    (out / f"{name}.md").write_text(table, encoding="utf-8")
+    print(table)
+    print(f"wrote {out}/")

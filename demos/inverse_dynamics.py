@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-from _common import demo_output, demo_parser, markdown_table
+from _common import demo_output, demo_parser, markdown_table, publish
 from scipy.interpolate import make_interp_spline
 from scipy.signal import butter, find_peaks, sosfiltfilt
 
@@ -203,7 +203,6 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
             "",
         ]
     )
-    (out / "inverse_dynamics.md").write_text(table, encoding="utf-8")
     plot(
         out / "inverse_dynamics.png",
         t,
@@ -211,8 +210,7 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
         {"true model, true angles": tau_true, **dict(list(cases.items())[:2])},
         "Swing-phase flexion torques: calibrated URDF vs the true leg",
     )
-    print(table)
-    print(f"wrote {out}/")
+    publish(out, "inverse_dynamics", table)
     return results
 
 

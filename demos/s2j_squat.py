@@ -7,7 +7,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from _common import demo_output, demo_parser, markdown_table
+from _common import demo_output, demo_parser, markdown_table, publish
 
 from lowerlimb.calibration import ExcitationWarning
 from lowerlimb.conventions import FloatArray
@@ -135,9 +135,7 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
             "",
         ]
     )
-    (out / "s2j_squat.md").write_text(table, encoding="utf-8")
-    print(table)
-    print(f"wrote {out}/")
+    publish(out, "s2j_squat", table)
     return results
 
 

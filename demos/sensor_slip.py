@@ -6,7 +6,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _common import demo_output, demo_parser, markdown_table
+from _common import demo_output, demo_parser, markdown_table, publish
 
 from lowerlimb.conventions import SENSORS, FloatArray, rot_y, rot_z
 from lowerlimb.model.calibrated import calibrated_geometry, chain_positions
@@ -173,10 +173,8 @@ def main(argv: list[str] | None = None) -> dict[str, list[float]]:
             "",
         ]
     )
-    (out / "sensor_slip.md").write_text(table, encoding="utf-8")
     plot(out / "sensor_slip.png", plotted, curves, args.sensor)
-    print(table)
-    print(f"wrote {out}/")
+    publish(out, "sensor_slip", table)
     return results
 
 
