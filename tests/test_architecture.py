@@ -208,3 +208,17 @@ def test_each_method_family_has_one_registry():
     doc = (ROOT / "docs" / "methods.md").read_text(encoding="utf-8")
     for name in (*ORIENTATION_FILTERS, *CALIBRATION_METHODS):
         assert f"`{name}`" in doc, name
+
+
+def test_the_command_line_parser_loads_no_heavy_dependency():
+    """``lowerlimb --help`` stays fast: building the parser loads no solver, filter or model library."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, lowerlimb.cli as c; c.build_parser(); "
+        "print(' '.join(m for m in ('casadi', 'pinocchio', 'numba', 'scipy', 'meshcat', "
+        "'matplotlib', 'yourdfpy') if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
+    assert out.stdout.strip() == ""
