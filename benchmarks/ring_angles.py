@@ -14,10 +14,10 @@ Pipeline under test, per hinge (parent p, child c) and per recording:
    (``mahony``, ``ftecf``, ``madgwick``), variants
    ``6ax`` (gyro + acc, each sensor's heading free),
    ``6ax+hdg`` (6-axis, then the child's heading turned about the vertical
-   with :func:`lowerlimb.heading.relative_heading` /
-   :func:`~lowerlimb.heading.rotate_about_vertical` so that ``u = R_p j_p``
+   with :func:`lowerlimb.segments.heading.relative_heading` /
+   :func:`~lowerlimb.segments.heading.rotate_about_vertical` so that ``u = R_p j_p``
    and ``v = R_c j_c`` agree horizontally, as the library does at the knee,
-   Gaussian kernel 4 s as in :func:`~lowerlimb.heading.correct_headings`),
+   Gaussian kernel 4 s as in :func:`~lowerlimb.segments.heading.correct_headings`),
    ``9ax`` (with the magnetometer, arbitrary units) and ``9ax+hdg``, and
    ``6ax+hdg, nominal axis`` (the nominal x / y / z instead of the
    estimated axis, for heading correction and angle: isolates the axis
@@ -82,8 +82,8 @@ from lowerlimb.conventions import (  # noqa: E402
     quat_rotate,
     quat_to_rotvec,
 )
-from lowerlimb.heading import relative_heading, rotate_about_vertical  # noqa: E402
 from lowerlimb.orientation import estimate_orientation  # noqa: E402
+from lowerlimb.segments.heading import relative_heading, rotate_about_vertical  # noqa: E402
 from lowerlimb.stillness import initial_still_samples  # noqa: E402
 
 IMU_RATE_HZ = 40.0
@@ -93,7 +93,7 @@ HINGES = ((2, 3, 0), (3, 4, 1), (4, 5, 2))
 VARIANTS = ("6ax", "6ax+hdg", "9ax", "9ax+hdg")
 #: 6-axis + heading correction with the nominal axis (x, y, z) instead of the estimated one.
 NOMINAL_VARIANT = "6ax+hdg, nominal axis"
-#: Heading-correction kernel, s (the default of lowerlimb.heading.correct_headings, used by the pipeline).
+#: Heading-correction kernel, s (the default of lowerlimb.segments.heading.correct_headings).
 HEADING_WINDOW_S = 4.0
 #: Smallest relative rotation counted in the axis sanity check, deg.
 AXIS_CHECK_MIN_DEG = 10.0

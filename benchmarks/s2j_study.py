@@ -15,7 +15,7 @@ the proximal sensor frame.
 - M4: M3 with orientations and joint angles estimated from the noisy IMU
   signals exactly as ``lowerlimb calibrate`` does (9-axis filter, Mahony by
   default, ``--filter`` to change; then the heading consistency and segment
-  frames of :func:`lowerlimb.motion.track_segments` with the subject's
+  frames of :func:`lowerlimb.segments.tracking.track_segments` with the subject's
   calibration).
 
 RMSE is the root mean square of the 3-D error norm, mm; the per-axis RMSE
@@ -44,8 +44,8 @@ from typing import Any
 
 import numpy as np
 
+from lowerlimb.calibration import LegCalibration
 from lowerlimb.conventions import JOINTS, FloatArray
-from lowerlimb.motion import track_segments
 from lowerlimb.s2j import (
     RELATIVE_POSITIONS,
     ReferenceKFParams,
@@ -53,6 +53,7 @@ from lowerlimb.s2j import (
     constant_s2j_from_calibration,
     reference_segment_relative_positions,
 )
+from lowerlimb.segments.tracking import track_segments
 from lowerlimb.simulation import ImuNoise, Simulation, SoftTissue, simulate
 from lowerlimb.stillness import gyro_bias, initial_still_samples
 
@@ -101,7 +102,7 @@ def estimate_orientations(
     """M4 inputs: the library's estimated sensor orientations and ISB angles over the whole trial.
 
     9-axis filter per sensor, then the pipeline's heading consistency and
-    segment frames (:func:`lowerlimb.motion.track_segments`) with the
+    segment frames (:func:`lowerlimb.segments.tracking.track_segments`) with the
     calibration of the simulated subject, exactly as ``lowerlimb calibrate``
     computes angles.
     """
@@ -124,7 +125,7 @@ def estimate_orientations(
         quats,
         tr.acc,
         gyr,
-        sim.truth,
+        LegCalibration.from_dict(sim.truth),  # the simulator's truth enters as a typed calibration
         rate_hz=tr.rate_hz,
         reference=tr.reference_samples(),
         side=tr.side,

@@ -6,17 +6,12 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _common import demo_output, demo_parser, markdown_table, publish
 
-from lowerlimb.demo import (
-    angle_rmse_deg,
-    compare_with_truth,
-    demo_output,
-    demo_parser,
-    markdown_table,
-    plot_angles,
-)
+from lowerlimb.demo import angle_rmse_deg, compare_with_truth
 from lowerlimb.pipeline import process_trial
 from lowerlimb.simulation import ImuNoise, simulate
+from lowerlimb.viz.plots import plot_angles
 
 
 def main(argv: list[str] | None = None) -> dict[str, float]:
@@ -74,15 +69,13 @@ def main(argv: list[str] | None = None) -> dict[str, float]:
             "",
         ]
     )
-    (out / "calibrate_walk.md").write_text(table, encoding="utf-8")
     plot_angles(
         out / "calibrate_walk.png",
         sim.trial.time_s,
         {"truth": sim.angles_rad, "lowerlimb": result.angles_rad},
         f"Simulated {duration:g} s walk: ISB joint angles, estimated vs true",
     )
-    print(table)
-    print(f"wrote {out}/")
+    publish(out, "calibrate_walk", table)
     return {**angles, "pelvis_to_foot_mm": p2f, "hip_to_ankle_mm": h2a}
 
 

@@ -8,9 +8,10 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from _common import demo_output, demo_parser, markdown_table, publish
 
 from lowerlimb.calibration import calibrate_leg
-from lowerlimb.demo import compare_with_truth, demo_output, demo_parser, markdown_table
+from lowerlimb.demo import compare_with_truth
 from lowerlimb.simulation import ImuNoise, simulate
 
 METHODS = ("gn", "casadi", "dwpso", "gwo", "dwpso+casadi", "gwo+casadi")
@@ -110,10 +111,8 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
             "",
         ]
     )
-    (out / "compare_solvers.md").write_text(table, encoding="utf-8")
     plot(out / "compare_solvers.png", errors, times)
-    print(table)
-    print(f"wrote {out}/")
+    publish(out, "compare_solvers", table)
     return summary
 
 

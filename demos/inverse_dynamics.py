@@ -7,12 +7,12 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
+from _common import demo_output, demo_parser, markdown_table, publish
 from scipy.interpolate import make_interp_spline
 from scipy.signal import butter, find_peaks, sosfiltfilt
 
 from lowerlimb.conventions import FloatArray, quat_to_matrix
-from lowerlimb.demo import demo_output, demo_parser, markdown_table
-from lowerlimb.leg_model import DOF_NAMES
+from lowerlimb.model.leg_model import DOF_NAMES
 from lowerlimb.pipeline import process_trial
 from lowerlimb.simulation import ImuNoise, Simulation, simulate
 
@@ -203,7 +203,6 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
             "",
         ]
     )
-    (out / "inverse_dynamics.md").write_text(table, encoding="utf-8")
     plot(
         out / "inverse_dynamics.png",
         t,
@@ -211,8 +210,7 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
         {"true model, true angles": tau_true, **dict(list(cases.items())[:2])},
         "Swing-phase flexion torques: calibrated URDF vs the true leg",
     )
-    print(table)
-    print(f"wrote {out}/")
+    publish(out, "inverse_dynamics", table)
     return results
 
 

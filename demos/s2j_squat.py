@@ -7,12 +7,12 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from _common import demo_output, demo_parser, markdown_table, publish
 
-from lowerlimb.calibrated_leg import chain_positions
 from lowerlimb.calibration import ExcitationWarning
 from lowerlimb.conventions import FloatArray
-from lowerlimb.demo import demo_output, demo_parser, markdown_table
-from lowerlimb.leg_geometry import LegGeometry
+from lowerlimb.model.calibrated import chain_positions
+from lowerlimb.model.geometry import LegGeometry
 from lowerlimb.pipeline import TrialResult, process_trial
 from lowerlimb.s2j import S2JModel, constant_s2j_from_calibration
 from lowerlimb.simulation import ImuNoise, Simulation, SoftTissue, simulate
@@ -135,9 +135,7 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, float]]:
             "",
         ]
     )
-    (out / "s2j_squat.md").write_text(table, encoding="utf-8")
-    print(table)
-    print(f"wrote {out}/")
+    publish(out, "s2j_squat", table)
     return results
 
 

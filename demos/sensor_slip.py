@@ -6,16 +6,16 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _common import demo_output, demo_parser, markdown_table, publish
 
-from lowerlimb.calibrated_leg import calibrated_geometry, chain_positions
 from lowerlimb.conventions import SENSORS, FloatArray, rot_y, rot_z
-from lowerlimb.demo import demo_output, demo_parser, markdown_table
-from lowerlimb.heading import correct_headings
-from lowerlimb.joint_angles import compute_joint_angles
-from lowerlimb.leg_geometry import LegGeometry
-from lowerlimb.leg_model import LegModel
-from lowerlimb.motion import MAG_HEADING_WEIGHT, track_segments
+from lowerlimb.model.calibrated import calibrated_geometry, chain_positions
+from lowerlimb.model.geometry import LegGeometry
+from lowerlimb.model.leg_model import LegModel
 from lowerlimb.pipeline import TrialResult, process_trial
+from lowerlimb.segments.angles import compute_joint_angles
+from lowerlimb.segments.heading import correct_headings
+from lowerlimb.segments.tracking import MAG_HEADING_WEIGHT, track_segments
 from lowerlimb.simulation import ImuNoise, Simulation, simulate
 
 #: Angle columns reported (angles.csv index, label).
@@ -46,7 +46,7 @@ def with_old_calibration(
     it the old segment frames are kept too (the sensor slipped mid-recording).
     """
     trial = new.trial
-    calib = old.calibration_dict()
+    calib = old.calibration
     gyr = {s: trial.gyr[s] - new.calibration.gyro_bias.get(s, np.zeros(3)) for s in SENSORS}
     weight = MAG_HEADING_WEIGHT if new.used_mag else 0.0
     if new_reference:
@@ -173,10 +173,8 @@ def main(argv: list[str] | None = None) -> dict[str, list[float]]:
             "",
         ]
     )
-    (out / "sensor_slip.md").write_text(table, encoding="utf-8")
     plot(out / "sensor_slip.png", plotted, curves, args.sensor)
-    print(table)
-    print(f"wrote {out}/")
+    publish(out, "sensor_slip", table)
     return results
 
 

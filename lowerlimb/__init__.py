@@ -1,6 +1,6 @@
 """lowerlimb: wearable IMU motion capture of the human leg.
 
-Public API (DESIGN.md): :func:`estimate_orientation`, :func:`estimate_hinge_axis`,
+Public API (docs/architecture.md): :func:`estimate_orientation`, :func:`estimate_hinge_axis`,
 :func:`estimate_joint_center`; the whole pipeline :func:`process_trial`; and
 :class:`ImuTrial`, :class:`LegModel`, :func:`simulate`; vendor recordings
 :func:`read_xsens`, :func:`read_mapped_csv`.
@@ -22,13 +22,13 @@ _EXPORTS = {
     "estimate_joint_center": "calibration",
     "InputError": "errors",
     "LowerLimbError": "errors",
-    "LegModel": "leg_model",
+    "LegModel": "model.leg_model",
     "estimate_orientation": "orientation",
-    "load_calibrated": "pipeline",
+    "load_calibrated": "outputs",
     "process_trial": "pipeline",
     "ImuNoise": "simulation",
     "simulate": "simulation",
-    "ImuTrial": "trial",
+    "ImuTrial": "io.trial",
     "read_mapped_csv": "io",
     "read_xsens": "io",
 }
@@ -55,11 +55,12 @@ if TYPE_CHECKING:
     from .calibration import calibrate_leg, estimate_hinge_axis, estimate_joint_center
     from .errors import InputError, LowerLimbError
     from .io import read_mapped_csv, read_xsens
-    from .leg_model import LegModel
+    from .io.trial import ImuTrial
+    from .model.leg_model import LegModel
     from .orientation import estimate_orientation
-    from .pipeline import load_calibrated, process_trial
+    from .outputs import load_calibrated
+    from .pipeline import process_trial
     from .simulation import ImuNoise, simulate
-    from .trial import ImuTrial
 
 
 def __getattr__(name: str) -> Any:

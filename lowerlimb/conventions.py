@@ -24,7 +24,7 @@ Segment frames (ISB)
 
 Joint angles
     ``R_prox_dist = R_z(s_f·flexion) R_x(s_a·adduction) R_y(s_r·rotation)``
-    (Hu et al. 2021 eq. 39, corrected as in NOTES.md), with per-joint/per-side
+    (Hu et al. 2021 eq. 39, corrected as in docs/methods.md), with per-joint/per-side
     signs :data:`JOINT_AXIS_SIGNS` chosen so that the clinical signs hold on
     both sides: hip and knee flexion +, ankle dorsiflexion +,
     adduction/inversion +, internal rotation +. Zero = the standing
@@ -43,6 +43,11 @@ Side = Literal["left", "right"]
 
 #: Standard gravity used by the simulator and the filters, m/s².
 GRAVITY_MPS2 = 9.81
+#: Largest plausible angular-rate norm, rad/s (≈ 2000 °/s, the full scale of common
+#: IMUs): a gyro whose readings exceed it is taken to be in deg/s.
+MAX_GYRO_RAD_S = 35.0
+#: An accelerometer whose median norm is below this, m/s², is taken to be in g.
+MIN_MEDIAN_ACC_MPS2 = 3.0
 #: Gravitational acceleration in the ENU earth frame, m/s².
 GRAVITY_ENU = np.array([0.0, 0.0, -GRAVITY_MPS2])
 

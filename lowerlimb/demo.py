@@ -1,64 +1,41 @@
-"""``lowerlimb demo``: the whole pipeline on a built-in simulated walk, checked against its truth."""
+"""``lowerlimb demo``: the whole pipeline on a built-in simulated walk, checked against its truth.
+
+:func:`run_demo` simulates a walk, calibrates it and writes every output plus
+the comparison with the truth; :func:`compare_with_truth` and
+:func:`angle_rmse_deg` score any calibration against a simulation.
+"""
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from .conventions import ANGLE_COLUMNS, JOINT_SENSORS, FloatArray
-from .output import write_angles_csv, write_positions_csv
+from .io.atomic import check_new_directory, populate_directory
+from .io.tables import write_angles_csv, write_positions_csv
 from .simulation import ImuNoise, Simulation, simulate
 
-
-def markdown_table(header: list[str], rows: list[list[str]]) -> str:
-    """A Markdown table from a header and rows of cell strings."""
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(row) + " |" for row in rows]
-    return "\n".join(lines)
+__all__ = ["DemoOptions", "angle_rmse_deg", "compare_with_truth", "run_demo", "summary_markdown"]
 
 
-def demo_parser(description: str | None, quick_help: str, default_out: Path) -> argparse.ArgumentParser:
-    """The arguments every script in ``demos/`` takes: ``--out DIR`` and ``--quick``."""
-    parser = argparse.ArgumentParser(description=description)
-    parser.add_argument("--out", type=Path, default=default_out, help="output folder (default: %(default)s)")
-    parser.add_argument("--quick", action="store_true", help=quick_help)
-    return parser
+@dataclass(frozen=True)
+class DemoOptions:
+    """What ``lowerlimb demo`` runs.
 
+    Attributes:
+        out: output folder to create (absent or empty).
+        duration_s: length of the simulated walk, s.
+        seed: random seed of the simulation.
+    """
 
-def demo_output(args: argparse.Namespace, name: str) -> Path:
-    """``args.out / name``, created."""
-    out = Path(args.out) / name
-    out.mkdir(parents=True, exist_ok=True)
-    return out
-
-
-def plot_angles(path: Path, time_s: FloatArray, curves: dict[str, FloatArray], title: str) -> None:
-    """Save a 3x3 grid of joint-angle curves to a PNG; ``curves`` maps a label to (N, 9) rad."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(3, 3, figsize=(12, 8), sharex=True)
-    for k, ax in enumerate(axes.T.ravel()):
-        for label, angles in curves.items():
-            ax.plot(time_s, np.rad2deg(angles[:, k]), label=label, lw=1.0)
-        ax.set_title(ANGLE_COLUMNS[1 + k].replace("_", " "), fontsize=9)
-        ax.grid(alpha=0.3)
-    for ax in axes[-1]:
-        ax.set_xlabel("time (s)")
-    for ax in axes[:, 0]:
-        ax.set_ylabel("deg")
-    axes[0, 0].legend(fontsize=8)
-    fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    out: Path = Path("lowerlimb_demo")
+    duration_s: float = 30.0
+    seed: int = 1
 
 
 def compare_with_truth(calibration: dict[str, Any], truth: dict[str, Any]) -> dict[str, dict[str, float]]:
@@ -115,21 +92,23 @@ def summary_markdown(
     return "\n".join(lines)
 
 
-def run_demo(args: argparse.Namespace) -> None:
-    """Simulate a walk, calibrate it, write all outputs plus the truth comparison into ``args.out``."""
-    from .cli import populate_directory
-    from .pipeline import process_trial, write_outputs
+def run_demo(options: DemoOptions) -> None:
+    """Simulate a walk, calibrate it, write all outputs plus the truth comparison into ``options.out``.
 
-    out = Path(args.out)
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
-        from .errors import InputError
+    Raises:
+        InputError: ``options.out`` exists and is not empty.
+    """
+    from .outputs import write_outputs
+    from .pipeline import process_trial
+    from .viz.plots import plot_angles
 
-        raise InputError(f"{out} already exists and is not empty; choose a new --out directory")
+    out = Path(options.out)
+    check_new_directory(out)
     print(
-        f"simulating a {args.duration:g} s walk (seed {args.seed}, realistic noise and bias)…",
+        f"simulating a {options.duration_s:g} s walk (seed {options.seed}, realistic noise and bias)…",
         file=sys.stderr,
     )
-    sim = simulate("walk", args.duration, args.seed, noise=ImuNoise())
+    sim = simulate("walk", options.duration_s, options.seed, noise=ImuNoise())
     print("calibrating…", file=sys.stderr)
     result = process_trial(sim.trial, progress=True)
     calibration = result.calibration_dict()

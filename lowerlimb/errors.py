@@ -1,8 +1,27 @@
-"""The library's exceptions. Each carries the data that explains it and a message naming the fix."""
+"""The library's exceptions. Each carries the data that explains it and a message naming the fix.
+
+One tree: :class:`LowerLimbError` is the base of every error the library raises on
+purpose; :class:`InputError` (also a ``ValueError``) is the user's mistake and
+:class:`SolverError` (also a ``RuntimeError``) a numerical failure.
+
+There is exactly one ``SolverError`` per package boundary. ``solvers`` is
+domain-free and must never import ``lowerlimb``, so it has its own base error,
+:class:`solvers.SolverError`; the calibration catches it where it calls a solver
+and raises this :class:`SolverError` ``from`` it, copying its ``method`` and
+``x``. Deriving this class from ``solvers.SolverError`` instead would make
+``import lowerlimb.errors`` load CasADi (``solvers`` imports it) and would leak
+the backend's type through the library's API; wrapping keeps every error a
+user of ``lowerlimb`` sees under :class:`LowerLimbError` (qpsolvers' rule: no
+abstraction leakage).
+"""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from lowerlimb.conventions import FloatArray
 
 
 class LowerLimbError(Exception):
@@ -24,7 +43,7 @@ class MissingColumnError(InputError):
         super().__init__(
             f"missing column '{column}'{where}; a trial needs time and "
             f"<sensor>_acc_x..z, <sensor>_gyr_x..z for pelvis, thigh, shank, foot "
-            f"(see DESIGN.md, trial CSV)"
+            f"(see docs/formats.md, trial CSV)"
         )
 
 
@@ -70,4 +89,14 @@ class ShapeError(InputError):
 
 
 class SolverError(LowerLimbError, RuntimeError):
-    """A numerical solver failed (wraps CasADi/IPOPT errors, chained with ``from``)."""
+    """A numerical solver failed (wraps :class:`solvers.SolverError` and CasADi/IPOPT errors, chained).
+
+    Attributes:
+        method: the solver that failed (e.g. ``"casadi_lsq/gauss_newton"``), or ``""``.
+        x: (n,) the point at which it failed, when known.
+    """
+
+    def __init__(self, message: str, *, method: str = "", x: FloatArray | None = None) -> None:
+        self.method = method
+        self.x = x
+        super().__init__(message)

@@ -1,50 +1,61 @@
-"""``lowerlimb calibrate``: trial → calibration → angles, positions, URDF, report.
+"""The whole pipeline in memory: trial → calibration → orientations → segments → model → positions.
 
-:func:`process_trial` is the library form (no files); :func:`run_calibrate`
-is the command: it validates everything first, computes everything, then
-writes every output of DESIGN.md into the new directory at once (a staging
-directory renamed into place), so a failure never leaves a partial DIR.
+:func:`process_trial` reads no file and writes none; it runs four named
+stages, each a function of its own (as pink's ``solve_ik`` reads
+``objective → inequalities → build → solve``):
+
+1. :func:`calibrate_joints` — the joint-constraint calibration, or a reused one
+   with this trial's gyro bias;
+2. :func:`estimate_orientations` — one orientation filter per sensor, with the
+   magnetometer when its field looks undisturbed;
+3. :func:`track_segments` — consistent headings, ISB segment frames and angles;
+4. :func:`build_model` — the calibrated leg and its forward-kinematics positions.
+
+Writing the result folder is :mod:`lowerlimb.outputs`; the command is
+:mod:`lowerlimb.cli.calibrate`.
 """
 
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 import time
 import warnings
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .calibrated_leg import calibrated_geometry, chain_positions
 from .calibration import LegCalibration, calibrate_leg
 from .conventions import SENSORS, FloatArray, quat_from_matrix
 from .errors import InputError
-from .leg_model import LegModel
-from .magnetic import check_magnetic_field
-from .motion import SegmentMotion, track_segments
+from .io.trial import ImuTrial
+from .methods import ORIENTATION_FILTERS
+from .model.calibrated import calibrated_geometry, chain_positions
+from .model.leg_model import LegModel
 from .orientation import estimate_orientation
-from .output import write_angles_csv, write_positions_csv
+from .orientation.magnetic import check_magnetic_field
 from .s2j import S2JModel, constant_s2j_from_calibration
-from .stillness import gyro_bias, initial_still_samples
-from .trial import ImuTrial
+from .segments.tracking import SegmentMotion, track_segments
+from .stillness import StillPeriod, gyro_bias
 
-#: Name of the S2J sidecar written beside the URDF.
-S2J_SIDECAR = "s2j.json"
-
-#: CLI method names → calibration methods.
-CLI_METHODS = {"casadi": "casadi", "gn": "gn", "dwpso": "dwpso", "gwo": "gwo"}
+__all__ = [
+    "MAG_FILTERS",
+    "MagneticDisturbanceWarning",
+    "Orientations",
+    "TrialResult",
+    "build_model",
+    "calibrate_joints",
+    "estimate_orientations",
+    "process_trial",
+]
 
 
 class MagneticDisturbanceWarning(UserWarning):
     """The magnetometer was not fused because the field looks disturbed."""
 
 
-#: Filters that use the magnetometer when the trial has one.
-MAG_FILTERS = ("mahony", "ftecf", "madgwick", "quest_kf")
+#: Filters that use the magnetometer when the trial has one (all of the registry).
+MAG_FILTERS: tuple[str, ...] = tuple(ORIENTATION_FILTERS)
 
 
 @dataclass
@@ -85,7 +96,7 @@ class TrialResult:
         return self.motion.angles_rad
 
     def calibration_dict(self) -> dict[str, Any]:
-        """calibration.json content: the DESIGN.md schema plus segment frames and diagnostics."""
+        """calibration.json content: the docs/formats.md schema plus segment frames and diagnostics."""
         d = self.calibration.to_dict()
         d["filter"] = self.filter_name
         d["calibration_reused"] = self.calibration_reused
@@ -109,6 +120,117 @@ class TrialResult:
         return d
 
 
+@dataclass
+class Orientations:
+    """Stage 2's result: the filter orientations and how the magnetometer was used.
+
+    Attributes:
+        quat_wxyz: ``{sensor: (N, 4)}`` sensor → earth (ENU), before heading correction.
+        used_mag: whether the magnetometer was fused.
+        magnetometer_note: why it was not fused (disturbed field), or ``""``.
+    """
+
+    quat_wxyz: dict[str, FloatArray]
+    used_mag: bool
+    magnetometer_note: str = ""
+
+
+def calibrate_joints(
+    trial: ImuTrial, method: str, still: StillPeriod, previous: LegCalibration | None = None
+) -> LegCalibration:
+    """Stage 1: calibrate the joints on this trial, or reuse ``previous`` with this trial's gyro bias.
+
+    Args:
+        trial: the trial.
+        method: joint-constraint solver.
+        still: the trial's still start (:meth:`ImuTrial.still_period`).
+        previous: a calibration of the same sensor placements to reuse.
+
+    Raises:
+        InputError: ``previous`` is of the other leg.
+    """
+    if previous is None:
+        return calibrate_leg(trial, method=method, still=still)
+    if previous.side != trial.side:
+        raise InputError(
+            f"the calibration is of the {previous.side} leg but the trial is the {trial.side} "
+            f"leg; pass --side {previous.side} or another calibration"
+        )
+    n_still = still.samples()
+    return replace(
+        previous,
+        runtime_s=0.0,
+        gyro_bias={s: gyro_bias(trial.gyr[s], n_still) for s in SENSORS},
+        still_s=n_still / trial.rate_hz,
+    )
+
+
+def estimate_orientations(
+    trial: ImuTrial, filter_name: str, *, use_mag: bool, reference: slice
+) -> Orientations:
+    """Stage 2: one orientation filter per sensor; the magnetometer only when its field is usable.
+
+    Warns:
+        MagneticDisturbanceWarning: the field looks disturbed; the filters run 6-axis.
+    """
+    mag = trial.mag if (use_mag and trial.mag is not None and filter_name in MAG_FILTERS) else None
+    mag_check = check_magnetic_field(trial, reference) if mag is not None else None
+    if mag_check is not None and not mag_check.usable:
+        warnings.warn(
+            f"the magnetometer looks disturbed ({mag_check.reason}); fusing gyro and accelerometer "
+            f"only (the joints keep the headings consistent); pass --no-mag to silence this",
+            MagneticDisturbanceWarning,
+            stacklevel=3,
+        )
+        mag = None
+    quats = {
+        s: estimate_orientation(
+            trial.gyr[s],
+            trial.acc[s],
+            None if mag is None else mag[s],
+            rate_hz=trial.rate_hz,
+            method=filter_name,
+        )
+        for s in SENSORS
+    }
+    return Orientations(quats, mag is not None, "" if mag_check is None else mag_check.reason)
+
+
+def build_model(
+    calibration: LegCalibration,
+    motion: SegmentMotion,
+    *,
+    height_m: float,
+    mass_kg: float,
+    s2j: S2JModel | None = None,
+) -> tuple[LegModel, FloatArray, S2JModel]:
+    """Stage 4: the calibrated leg, its (N, 6) positions (m) and the S2J model they used (M1 by default)."""
+    model = LegModel(calibrated_geometry(calibration, motion.frames, height_m=height_m, mass_kg=mass_kg))
+    if s2j is None:
+        s2j = S2JModel("M1", constant_s2j_from_calibration(calibration))
+        positions = chain_positions(model, motion.angles_rad)
+    else:
+        positions = chain_positions(model, motion.angles_rad, s2j.predict(motion.angles_rad))
+    return model, positions, s2j
+
+
+class _Stopwatch:
+    """Wall time of each stage, optionally printed as one line per stage on stderr."""
+
+    def __init__(self, progress: bool) -> None:
+        self.progress = progress
+        self.timings_s: dict[str, float] = {}
+        self._t0 = time.perf_counter()
+
+    def start(self) -> None:
+        self._t0 = time.perf_counter()
+
+    def stop(self, name: str) -> None:
+        self.timings_s[name] = time.perf_counter() - self._t0
+        if self.progress:
+            print(f"  {name:<22s} {self.timings_s[name]:6.2f} s", file=sys.stderr)
+
+
 def process_trial(
     trial: ImuTrial,
     *,
@@ -125,8 +247,8 @@ def process_trial(
 
     Args:
         trial: a validated four-IMU trial.
-        method: joint-constraint solver (``casadi``, ``gn``, ``dwpso``, ``gwo``…).
-        filter_name: orientation filter (``mahony``, ``ftecf``, ``madgwick``, ``quest_kf``).
+        method: joint-constraint solver, one of :data:`lowerlimb.methods.CALIBRATION_METHODS`.
+        filter_name: orientation filter, one of :data:`lowerlimb.methods.ORIENTATION_FILTERS`.
         height_m: subject stature for the URDF inertias, m.
         mass_kg: subject mass for the URDF inertias, kg.
         use_mag: fuse the magnetometer when the trial has one.
@@ -136,256 +258,50 @@ def process_trial(
             placements (e.g. from a walk or the "mixed" motion) instead of
             calibrating this trial; its gyro bias is re-measured on this trial.
         progress: print one line per stage on stderr.
+
+    Raises:
+        InputError: a calibration of the other leg, or bad options.
     """
-    timings: dict[str, float] = {}
+    clock = _Stopwatch(progress)
+    still = trial.still_period()  # detected once, handed on
+    reference = trial.reference_samples(still)
 
-    def step(name: str, t0: float) -> None:
-        timings[name] = time.perf_counter() - t0
-        if progress:
-            print(f"  {name:<22s} {timings[name]:6.2f} s", file=sys.stderr)
+    clock.start()
+    calib = calibrate_joints(trial, method, still, calibration)
+    clock.stop("joint calibration")
 
-    reference = trial.reference_samples()
-    t0 = time.perf_counter()
-    if calibration is None:
-        calib = calibrate_leg(trial, method=method)
-    else:
-        if calibration.side != trial.side:
-            raise InputError(
-                f"the calibration is of the {calibration.side} leg but the trial is the {trial.side} "
-                f"leg; pass --side {calibration.side} or another calibration"
-            )
-        n_still = initial_still_samples(
-            [trial.gyr[s] for s in SENSORS], [trial.acc[s] for s in SENSORS], trial.rate_hz
-        )
-        calib = replace(
-            calibration,
-            runtime_s=0.0,
-            gyro_bias={s: gyro_bias(trial.gyr[s], n_still) for s in SENSORS},
-            still_s=n_still / trial.rate_hz,
-        )
-    step("joint calibration", t0)
-    calib_dict = calib.to_dict()
+    clock.start()
+    orientations = estimate_orientations(trial, filter_name, use_mag=use_mag, reference=reference)
+    clock.stop("orientation filters")
 
-    t0 = time.perf_counter()
-    mag = trial.mag if (use_mag and trial.mag is not None and filter_name in MAG_FILTERS) else None
-    mag_check = check_magnetic_field(trial, reference) if mag is not None else None
-    if mag_check is not None and not mag_check.usable:
-        warnings.warn(
-            f"the magnetometer looks disturbed ({mag_check.reason}); fusing gyro and accelerometer "
-            f"only (the joints keep the headings consistent); pass --no-mag to silence this",
-            MagneticDisturbanceWarning,
-            stacklevel=2,
-        )
-        mag = None
-    quats = {
-        s: estimate_orientation(
-            trial.gyr[s],
-            trial.acc[s],
-            None if mag is None else mag[s],
-            rate_hz=trial.rate_hz,
-            method=filter_name,
-        )
-        for s in SENSORS
-    }
-    step("orientation filters", t0)
-
-    t0 = time.perf_counter()
+    clock.start()
     gyr = {s: trial.gyr[s] - calib.gyro_bias.get(s, np.zeros(3)) for s in SENSORS}
     motion = track_segments(
-        quats,
+        orientations.quat_wxyz,
         trial.acc,
         gyr,
-        calib_dict,
+        calib,
         rate_hz=trial.rate_hz,
         reference=reference,
         side=trial.side,
-        shared_heading=mag is not None,
+        shared_heading=orientations.used_mag,
     )
-    step("segment frames, angles", t0)
+    clock.stop("segment frames, angles")
 
-    t0 = time.perf_counter()
-    model = LegModel(calibrated_geometry(calib_dict, motion.frames, height_m=height_m, mass_kg=mass_kg))
-    if s2j is None:
-        s2j = S2JModel("M1", constant_s2j_from_calibration(calib_dict))
-        positions = chain_positions(model, motion.angles_rad)
-    else:
-        positions = chain_positions(model, motion.angles_rad, s2j.predict(motion.angles_rad))
-    step("forward kinematics", t0)
-    result = TrialResult(
+    clock.start()
+    model, positions, s2j_used = build_model(calib, motion, height_m=height_m, mass_kg=mass_kg, s2j=s2j)
+    clock.stop("forward kinematics")
+    return TrialResult(
         trial,
         calib,
-        quats,
+        orientations.quat_wxyz,
         motion,
         model,
         positions,
-        s2j,
-        timings,
-        mag is not None,
+        s2j_used,
+        clock.timings_s,
+        orientations.used_mag,
         filter_name,
         calibration is not None,
+        orientations.magnetometer_note,
     )
-    result.magnetometer_note = "" if mag_check is None else mag_check.reason
-    return result
-
-
-def write_outputs(
-    result: TrialResult,
-    directory: Path,
-    *,
-    truth_angles_rad: FloatArray | None = None,
-    truth_positions_m: FloatArray | None = None,
-) -> None:
-    """Write every DESIGN.md output of a processed trial into ``directory``.
-
-    Args:
-        result: the processed trial.
-        directory: an existing, empty folder.
-        truth_angles_rad: (N, 9) known angles (simulations) to overlay in the report.
-        truth_positions_m: (N, 6) known positions to overlay in the report.
-    """
-    d = result.calibration_dict()
-    d["urdf"] = "calibrated.urdf"
-    d["s2j"] = S2J_SIDECAR
-    (directory / "calibration.json").write_text(json.dumps(d, indent=2), encoding="utf-8")
-    write_angles_csv(directory / "angles.csv", result.trial.time_s, result.angles_rad)
-    write_positions_csv(directory / "positions.csv", result.trial.time_s, result.positions_m)
-    (directory / S2J_SIDECAR).write_text(json.dumps(result.s2j.to_dict(), indent=1), encoding="utf-8")
-    (directory / "calibrated.urdf").write_text(
-        urdf_with_sidecar(result.model.to_urdf_string()), encoding="utf-8"
-    )
-    _write_report(result, directory, d, truth_angles_rad, truth_positions_m)
-
-
-def urdf_with_sidecar(urdf: str) -> str:
-    """Name the S2J sidecar in the URDF, as an XML comment right after the ``<robot>`` tag."""
-    start = urdf.find("<robot")
-    end = urdf.find(">", start)
-    note = (
-        f"<!-- lowerlimb: time-varying segment-to-joint model in {S2J_SIDECAR} (same folder); "
-        f"load both with lowerlimb.pipeline.load_calibrated -->"
-    )
-    return urdf[: end + 1] + note + urdf[end + 1 :]
-
-
-def load_calibrated(directory: str | Path) -> tuple[LegModel, S2JModel]:
-    """Re-load a calibrated leg and its S2J model from a ``lowerlimb calibrate`` directory.
-
-    Raises:
-        InputError: when the directory lacks ``calibrated.urdf`` or ``s2j.json``.
-    """
-    d = Path(directory)
-    for name in ("calibrated.urdf", S2J_SIDECAR):
-        if not (d / name).is_file():
-            raise InputError(f"{d} has no {name}; give an output directory of 'lowerlimb calibrate'")
-    model = LegModel.from_urdf(d / "calibrated.urdf")
-    s2j = S2JModel.from_dict(json.loads((d / S2J_SIDECAR).read_text(encoding="utf-8")))
-    return model, s2j
-
-
-def _write_report(
-    result: TrialResult,
-    directory: Path,
-    calibration: dict[str, Any],
-    truth_angles_rad: FloatArray | None = None,
-    truth_positions_m: FloatArray | None = None,
-) -> None:
-    from .report import write_report
-
-    write_report(
-        directory / "report.html",
-        model=result.model,
-        time_s=result.trial.time_s,
-        angles_rad=result.angles_rad,
-        positions_m=result.positions_m,
-        calibration=calibration,
-        truth_angles_rad=truth_angles_rad,
-        truth_positions_m=truth_positions_m,
-    )
-
-
-def run_calibrate(args: argparse.Namespace) -> None:
-    """``lowerlimb calibrate TRIAL.csv --out DIR``: see DESIGN.md for the outputs.
-
-    Raises:
-        InputError: bad trial, bad options, or an existing non-empty DIR.
-    """
-    from .cli import populate_directory
-
-    out = Path(args.out)
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
-        raise InputError(f"{out} already exists and is not empty; choose a new --out directory")
-    trial = ImuTrial.from_csv(args.trial, side=args.side)
-    s2j = None
-    if getattr(args, "s2j", None) is not None:
-        s2j = _read_s2j(Path(args.s2j))
-    previous = None
-    if getattr(args, "calibration", None) is not None:
-        previous = _read_calibration(Path(args.calibration))
-    if args.method not in CLI_METHODS:
-        raise InputError(f"unknown method '{args.method}'; choose one of {', '.join(CLI_METHODS)}")
-    print(
-        f"calibrating {args.trial} ({trial.n_samples} samples at {trial.rate_hz:.4g} Hz, "
-        f"{trial.duration_s:.1f} s, {trial.side} leg, method {args.method}, filter {args.filter})",
-        file=sys.stderr,
-    )
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        result = process_trial(
-            trial,
-            method=CLI_METHODS[args.method],
-            filter_name=args.filter,
-            height_m=args.height,
-            mass_kg=args.mass,
-            use_mag=not getattr(args, "no_mag", False),
-            s2j=s2j,
-            calibration=previous,
-            progress=True,
-        )
-    seen: set[str] = set()
-    for w in caught:
-        if issubclass(w.category, DeprecationWarning | PendingDeprecationWarning | FutureWarning):
-            continue
-        text = str(w.message)
-        if text not in seen:
-            seen.add(text)
-            print(f"lowerlimb: warning: {text}", file=sys.stderr)
-    populate_directory(out, lambda d: write_outputs(result, d))
-    cal = result.calibration
-    print(f"joint calibration took {cal.runtime_s:.3f} s; wrote {out}/", file=sys.stderr)
-    for name, joint in cal.joints.items():
-        print(f"  {name:<6s} rms residual {joint.to_dict()['rms_residual']:.4g}", file=sys.stderr)
-
-
-def _read_s2j(path: Path) -> S2JModel:
-    if not path.is_file():
-        raise FileNotFoundError(f"S2J model not found: {path}")
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except ValueError as e:
-        raise InputError(
-            f"{path} is not JSON ({_first_line(e)}); give an S2J model written by S2JModel.to_dict()"
-        ) from None
-    try:
-        return S2JModel.from_dict(data)
-    except InputError as e:
-        raise InputError(f"{path}: {e}") from None
-    except (KeyError, TypeError) as e:
-        raise InputError(
-            f"{path} is not a lowerlimb S2J model ({e}); write one with S2JModel.to_dict()"
-        ) from None
-
-
-def _read_calibration(path: Path) -> LegCalibration:
-    if not path.is_file():
-        raise FileNotFoundError(f"calibration not found: {path}")
-    try:
-        return LegCalibration.from_dict(json.loads(path.read_text(encoding="utf-8")))
-    except (ValueError, TypeError) as e:
-        raise InputError(
-            f"{path} is not a lowerlimb calibration.json ({_first_line(e)}); give the calibration.json "
-            f"written by 'lowerlimb calibrate'"
-        ) from None
-
-
-def _first_line(e: BaseException) -> str:
-    return str(e).splitlines()[0] if str(e) else type(e).__name__

@@ -16,7 +16,7 @@ from solvers.result import SolverResult
 
 @dataclass(frozen=True)
 class DWPSOParams:
-    """Parameters of :func:`dwpso` (defaults from Hu et al. 2021 and NOTES.md).
+    """Parameters of :func:`dwpso` (defaults from Hu et al. 2021 and the errata in docs/methods.md).
 
     Attributes:
         mu_max: Inertia weight at the first iteration (μ_max = 0.8).
@@ -86,7 +86,7 @@ def dwpso(
         F ← μ̃ F + Ω1 ∂1 (η_ε − x_ε) + Ω2 ∂2 (p − x_ε),    x_ε ← x_ε + F,
 
     with ∂1, ∂2 ~ U[0, 1] per coordinate, η_ε the particle's best position (eq. 19), p the
-    swarm's best (eq. 20), and the dynamic weight (eq. 24 is garbled in print; NOTES.md)::
+    swarm's best (eq. 20), and the dynamic weight (eq. 24 is garbled in print; docs/methods.md)::
 
         μ̃_{γ,ε} = μ_max (μ_min/μ_max)^(γ/(γ_max−1)) + jump · (2u − 1),   u ~ U[0, 1],
 

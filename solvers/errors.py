@@ -1,4 +1,9 @@
-"""The exception every solver raises when an evaluation or a backend fails."""
+"""The one exception of the ``solvers`` package: the base of every error a solver raises on purpose.
+
+``solvers`` is domain-free and never imports ``lowerlimb``; a caller that owns a
+domain wraps this error in its own (``lowerlimb.errors.SolverError`` does, chained
+with ``from``, keeping :attr:`SolverError.method` and :attr:`SolverError.x`).
+"""
 
 from __future__ import annotations
 

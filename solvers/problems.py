@@ -8,43 +8,11 @@ that generated it (as qpsolvers' ``problems.py``).
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
-
 import casadi
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-
-@dataclass(frozen=True)
-class LeastSquaresProblem:
-    """A nonlinear least-squares problem ``min 0.5 * ||r(x)||²`` with a known answer.
-
-    Attributes:
-        name: Short identifier.
-        residual: ``r(x)``, shape (n,) → (M,).
-        jacobian: ``dr/dx``, shape (n,) → (M, n).
-        cost_batch: ``0.5 * sum(r**2)`` for a population, shape (P, n) → (P,).
-        casadi_residual: CasADi residual: per sample ``(x, p_k) -> r_k`` when ``data`` is
-            given (one column of ``data`` per sample), else ``x -> r``.
-        data: The data matrix, shape (k, N), one sample per column; ``None`` when the
-            residual has no data.
-        x_true: The parameters that generated the data, shape (n,).
-        x0: A starting point near (but not at) ``x_true``, shape (n,).
-        lower: Lower bounds of a search box containing ``x_true``, shape (n,).
-        upper: Upper bounds, shape (n,).
-    """
-
-    name: str
-    residual: Callable[[np.ndarray], np.ndarray]
-    jacobian: Callable[[np.ndarray], np.ndarray]
-    cost_batch: Callable[[np.ndarray], np.ndarray]
-    casadi_residual: casadi.Function
-    data: np.ndarray | None
-    x_true: np.ndarray
-    x0: np.ndarray
-    lower: np.ndarray
-    upper: np.ndarray
+from solvers.problem import LeastSquaresProblem
 
 
 def sphere_fit(n_points: int = 200, noise: float = 1e-3, seed: int = 0) -> LeastSquaresProblem:

@@ -14,8 +14,8 @@ from lowerlimb.calibration import (
 from lowerlimb.calibration.geometry import angle_between_deg, distance_to_line
 from lowerlimb.conventions import SENSORS
 from lowerlimb.errors import InputError
+from lowerlimb.io.trial import ImuTrial
 from lowerlimb.simulation import ImuNoise
-from lowerlimb.trial import ImuTrial
 
 REQUIRED = {
     "spherical": {

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from lowerlimb.cli import main
-from lowerlimb.trial import ImuTrial
+from lowerlimb.io.trial import ImuTrial
 
 
 def test_simulate_writes_trial_truth_and_tables(tmp_path, capsys):

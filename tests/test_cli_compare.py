@@ -6,7 +6,7 @@ import pytest
 
 from lowerlimb.cli import main
 from lowerlimb.conventions import ANGLE_COLUMNS, POSITION_COLUMNS
-from lowerlimb.output import write_angles_csv, write_positions_csv
+from lowerlimb.io.tables import write_angles_csv, write_positions_csv
 
 
 def _calibrate_dir(tmp_path):

@@ -5,7 +5,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from lowerlimb import conventions as cv
-from lowerlimb.leg_model import LegModel
+from lowerlimb.model.leg_model import LegModel
 
 finite = st.floats(-10, 10, allow_nan=False)
 quats = arrays(np.float64, 4, elements=finite).filter(lambda q: np.linalg.norm(q) > 1e-3)

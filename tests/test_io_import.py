@@ -28,8 +28,8 @@ from lowerlimb.io import (
     read_mapped_csv,
     read_xsens,
 )
+from lowerlimb.io.trial import ImuTrial
 from lowerlimb.io.xsens import unwrap_counter
-from lowerlimb.trial import ImuTrial
 
 RATE = 100.0
 IDS = {"pelvis": "00B40B91", "thigh": "00B40C45", "shank": "00B40C44", "foot": "00B40C55"}

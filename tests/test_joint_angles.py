@@ -4,12 +4,13 @@ import numpy as np
 import pytest
 from simcache import cached_simulation
 
-from lowerlimb.calibrated_leg import calibrated_geometry, chain_positions, knee_center_pair
+from lowerlimb.calibration import LegCalibration
 from lowerlimb.conventions import SENSORS, quat_rotate
-from lowerlimb.heading import relative_heading, rotate_about_vertical
-from lowerlimb.leg_model import LegModel
-from lowerlimb.motion import track_segments
+from lowerlimb.model.calibrated import calibrated_geometry, chain_positions, knee_center_pair
+from lowerlimb.model.leg_model import LegModel
 from lowerlimb.s2j.relative_position import segment_relative_positions
+from lowerlimb.segments.heading import relative_heading, rotate_about_vertical
+from lowerlimb.segments.tracking import track_segments
 from lowerlimb.simulation import ImuNoise
 
 
@@ -19,13 +20,13 @@ def _pipeline(sim, quats, **kw):
         quats,
         tr.acc,
         tr.gyr,
-        sim.truth,
+        LegCalibration.from_dict(sim.truth),
         rate_hz=tr.rate_hz,
         reference=tr.reference_samples(),
         side=tr.side,
         **kw,
     )
-    model = LegModel(calibrated_geometry(sim.truth, motion.frames))
+    model = LegModel(calibrated_geometry(LegCalibration.from_dict(sim.truth), motion.frames))
     return (
         motion.angles_rad,
         chain_positions(model, motion.angles_rad),
@@ -84,7 +85,7 @@ def test_fk_positions_equal_lee_eq_2_3():
     sim = cached_simulation("knee-lift", 10.0, 6, noise=ImuNoise.none())
     _, pos, qc, _ = _pipeline(sim, sim.quat_wxyz)
     j = sim.truth["joints"]
-    c_knee_t, c_knee_s = knee_center_pair(sim.truth)
+    c_knee_t, c_knee_s = knee_center_pair(LegCalibration.from_dict(sim.truth))
     s2j = {
         "hip": (np.array(j["hip"]["center_in_parent_sensor"]), np.array(j["hip"]["center_in_child_sensor"])),
         "knee": (c_knee_t, c_knee_s),
@@ -101,7 +102,7 @@ def test_time_varying_s2j_through_pinocchio_equals_eq_2_3():
     """Per-sample placement updates in Pinocchio reproduce eq. 2–3 with time-varying S2J vectors."""
     sim = cached_simulation("squat", 8.0, 8, noise=ImuNoise.none())
     angles, _, qc, frames = _pipeline(sim, sim.quat_wxyz)
-    model = LegModel(calibrated_geometry(sim.truth, frames))
+    model = LegModel(calibrated_geometry(LegCalibration.from_dict(sim.truth), frames))
     n = len(angles)
     rng = np.random.default_rng(0)
     j = sim.truth["joints"]

@@ -6,10 +6,10 @@ import pytest
 import yourdfpy
 
 from lowerlimb.conventions import SENSORS
-from lowerlimb.leg_geometry import LegGeometry
-from lowerlimb.leg_model import LegModel
+from lowerlimb.model.geometry import LegGeometry
+from lowerlimb.model.leg_model import LegModel
+from lowerlimb.model.templates import render_template, template_path
 from lowerlimb.simulation.placements import random_placements
-from lowerlimb.templates import render_template, template_path
 
 FRAMES = ["pelvis", "thigh", "shank", "foot"] + [f"imu_{s}" for s in SENSORS]
 
@@ -56,9 +56,7 @@ def test_urdf_round_trip_same_kinematics(side, tmp_path):
         ydf.update_cfg(dict(zip(model.model.names[2:], angles, strict=True)))
         for f in FRAMES:
             assert np.allclose(ref[f].homogeneous, got[f].homogeneous, atol=1e-9)
-            assert np.allclose(
-                ref[f].homogeneous, raw_data.oMf[raw.getFrameId(f)].homogeneous, atol=1e-9
-            )
+            assert np.allclose(ref[f].homogeneous, raw_data.oMf[raw.getFrameId(f)].homogeneous, atol=1e-9)
             T = ydf.get_transform(f, "pelvis")
             assert np.allclose(ref[f].homogeneous, T, atol=1e-9)
 
@@ -94,9 +92,7 @@ def test_sensor_views_match_forward_kinematics():
     assert np.allclose(
         p0["imu_thigh"].rotation @ m.knee_axis_in_sensor("thigh"), p0["thigh"].rotation @ [0, 0, 1]
     )
-    assert np.allclose(
-        p0["imu_shank"].rotation @ m.knee_axis_in_sensor("shank"), [0, 0, 1], atol=1e-12
-    )
+    assert np.allclose(p0["imu_shank"].rotation @ m.knee_axis_in_sensor("shank"), [0, 0, 1], atol=1e-12)
 
 
 def test_from_urdf_string_and_bad_urdf():
@@ -107,6 +103,4 @@ def test_from_urdf_string_and_bad_urdf():
     bad = '<robot name="x"><link name="a"/></robot>'
     with pytest.raises(InputError, match="not a lowerlimb leg"):
         LegGeometry.from_urdf(bad)
-    assert yourdfpy.URDF.load(
-        io.BytesIO(xml.encode()), build_scene_graph=False, load_meshes=False
-    ).validate()
+    assert yourdfpy.URDF.load(io.BytesIO(xml.encode()), build_scene_graph=False, load_meshes=False).validate()

@@ -148,7 +148,7 @@ def test_simulated_walk_within_benchmarked_error(walk, method, use_mag):
 
 
 def test_instantaneous_gyro_samples_are_integrated_by_the_trapezoid_rule():
-    """On the simulator (instantaneous gyro samples, DESIGN.md), the default timing is the accurate one."""
+    """On the simulator (instantaneous gyro samples, docs/conventions.md) the default timing is best."""
     sim_mod = pytest.importorskip("lowerlimb.simulation")
     sim = sim_mod.simulate("walk", 12.0, 3, noise=sim_mod.ImuNoise.none())
     tr = sim.trial

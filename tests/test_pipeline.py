@@ -9,8 +9,8 @@ from simcache import cached_simulation
 from lowerlimb.cli import main
 from lowerlimb.conventions import ANGLE_COLUMNS, POSITION_COLUMNS
 from lowerlimb.demo import compare_with_truth
-from lowerlimb.leg_model import LegModel
-from lowerlimb.pipeline import load_calibrated
+from lowerlimb.model.leg_model import LegModel
+from lowerlimb.outputs import load_calibrated
 from lowerlimb.simulation import ImuNoise
 
 
@@ -68,7 +68,7 @@ def test_no_standing_start_warns_once_and_calibrates(tmp_path, capsys):
     sim = cached_simulation("walk", 40.0, 21, noise=ImuNoise(), side="right")
     t = sim.trial
     cut = 300
-    from lowerlimb.trial import ImuTrial
+    from lowerlimb.io.trial import ImuTrial
 
     moving = ImuTrial(
         t.time_s[cut:] - t.time_s[cut],
@@ -160,9 +160,9 @@ def test_disturbed_magnetometer_is_ignored_with_a_warning():
     """A magnet near the shank bends its field: the pipeline falls back to 6-axis fusion and says so."""
     import warnings as w
 
-    from lowerlimb.magnetic import check_magnetic_field
+    from lowerlimb.io.trial import ImuTrial
+    from lowerlimb.orientation.magnetic import check_magnetic_field
     from lowerlimb.pipeline import MagneticDisturbanceWarning, process_trial
-    from lowerlimb.trial import ImuTrial
 
     sim = cached_simulation("walk", 20.0, 33)
     assert check_magnetic_field(sim.trial).usable

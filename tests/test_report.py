@@ -12,7 +12,7 @@ from chromium import orange_mask, screenshot
 from PIL import Image
 
 from lowerlimb.errors import InputError, ShapeError
-from lowerlimb.report import MAX_ANIMATION_FRAMES, write_report
+from lowerlimb.viz.report import MAX_ANIMATION_FRAMES, write_report
 
 
 class _Collect(HTMLParser):

@@ -16,8 +16,8 @@ from simcache import data_dir
 
 from lowerlimb import estimate_hinge_axis
 from lowerlimb.conventions import quat_conjugate, quat_multiply, quat_normalize, quat_rotate
-from lowerlimb.heading import relative_heading, rotate_about_vertical
 from lowerlimb.orientation import estimate_orientation
+from lowerlimb.segments.heading import relative_heading, rotate_about_vertical
 from lowerlimb.stillness import initial_still_samples
 
 DATA = data_dir()

@@ -8,7 +8,7 @@ import pytest
 import umsgpack
 
 from lowerlimb.errors import ShapeError
-from lowerlimb.scene import CommandRecorder, draw_leg, resample_angles, standalone_html
+from lowerlimb.viz.scene import CommandRecorder, draw_leg, resample_angles, standalone_html
 
 
 def test_resample_angles_interpolates_on_a_regular_grid():

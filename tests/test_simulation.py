@@ -65,12 +65,8 @@ def test_joint_centre_acceleration_agrees_between_sensors():
         assert np.sqrt(np.mean(err**2)) < 0.02, joint
     # the knee axis is the same physical direction from both sensors
     knee = sim.truth["joints"]["knee"]
-    a_t = np.einsum(
-        "nij,j->ni", quat_to_matrix(sim.quat_wxyz["thigh"]), knee["axis_in_parent_sensor"]
-    )
-    a_s = np.einsum(
-        "nij,j->ni", quat_to_matrix(sim.quat_wxyz["shank"]), knee["axis_in_child_sensor"]
-    )
+    a_t = np.einsum("nij,j->ni", quat_to_matrix(sim.quat_wxyz["thigh"]), knee["axis_in_parent_sensor"])
+    a_s = np.einsum("nij,j->ni", quat_to_matrix(sim.quat_wxyz["shank"]), knee["axis_in_child_sensor"])
     assert np.max(np.linalg.norm(a_t - a_s, axis=1)) < 1e-9
 
 

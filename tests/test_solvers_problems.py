@@ -71,6 +71,7 @@ def test_public_api_is_explicit():
     assert sorted(solvers.__all__) == [
         "DWPSOParams",
         "GWOParams",
+        "LeastSquaresProblem",
         "SolverError",
         "SolverResult",
         "casadi_lsq",
@@ -81,6 +82,7 @@ def test_public_api_is_explicit():
     ]
     assert issubclass(solvers.SolverError, RuntimeError)
     assert isinstance(problems.rosenbrock().casadi_residual, casadi.Function)
+    assert isinstance(problems.rosenbrock(), solvers.LeastSquaresProblem)
 
 
 def test_solvers_never_imports_lowerlimb():
@@ -99,3 +101,17 @@ def test_result_is_a_frozen_dataclass():
     res = solvers.SolverResult(np.zeros(2), 0.0, 0, 0.0, True, "none", {})
     with pytest.raises(AttributeError):
         res.cost = 1.0  # type: ignore[misc]
+
+
+def test_lowerlimb_wraps_the_solver_error_with_its_data():
+    """One SolverError per package: lowerlimb's wraps solvers', keeping method and x, chained."""
+    import numpy as np
+
+    from lowerlimb.calibration._solve import _wrap
+    from lowerlimb.errors import LowerLimbError
+
+    cause = solvers.SolverError("non-finite residual", method="gauss_newton", x=np.ones(3))
+    wrapped = _wrap(cause, "the gn Gauss–Newton solve")
+    assert isinstance(wrapped, LowerLimbError) and isinstance(wrapped, RuntimeError)
+    assert not isinstance(wrapped, solvers.SolverError)
+    assert wrapped.method == "gauss_newton" and np.array_equal(wrapped.x, np.ones(3))

@@ -9,7 +9,7 @@ from lowerlimb.errors import (
     TooShortError,
     UnitError,
 )
-from lowerlimb.trial import ImuTrial, StandingStartWarning
+from lowerlimb.io.trial import ImuTrial, StandingStartWarning
 
 
 def _trial():
@@ -55,9 +55,7 @@ def test_nan(tmp_path):
         d[10, h.index("foot_acc_z")] = np.nan
         return h, d
 
-    with pytest.raises(
-        NonFiniteValueError, match="'foot_acc_z' has a NaN or infinite value at data row 11"
-    ):
+    with pytest.raises(NonFiniteValueError, match="'foot_acc_z' has a NaN or infinite value at data row 11"):
         ImuTrial.from_csv(_write(tmp_path, _trial(), nan))
 
 

@@ -17,8 +17,8 @@ import yourdfpy
 from scipy.spatial.transform import Rotation
 
 from lowerlimb.conventions import JOINT_AXIS_SIGNS, JOINTS, SENSORS, matrix_from_joint_angles
-from lowerlimb.leg_geometry import JOINT_LIMITS_RAD, JOINT_SEGMENTS, SENSOR_SEGMENT, LegGeometry
-from lowerlimb.leg_model import DOF_NAMES, LegModel
+from lowerlimb.model.geometry import JOINT_LIMITS_RAD, JOINT_SEGMENTS, SENSOR_SEGMENT, LegGeometry
+from lowerlimb.model.leg_model import DOF_NAMES, LegModel
 from lowerlimb.simulation.placements import random_placements
 
 SEGMENT_LINKS = ["pelvis", "thigh", "shank", "foot"]

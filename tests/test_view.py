@@ -15,9 +15,9 @@ from chromium import orange_mask, screenshot
 from lowerlimb.cli import main
 from lowerlimb.conventions import ANGLE_COLUMNS
 from lowerlimb.errors import InputError
-from lowerlimb.output import write_angles_csv
-from lowerlimb.scene import R_WORLD_PELVIS
-from lowerlimb.view import build_animation, load_view_data, serve
+from lowerlimb.io.tables import write_angles_csv
+from lowerlimb.viz.scene import R_WORLD_PELVIS
+from lowerlimb.viz.view import build_animation, load_view_data, serve
 
 SEGMENTS = ("pelvis", "thigh", "shank", "foot")
 

@@ -1,4 +1,4 @@
-"""Agreement of lowerlimb outputs with a reference system (DESIGN.md, "Agreement with a reference").
+"""Agreement of lowerlimb outputs with a reference system (docs/formats.md, "Agreement with a reference").
 
 Per quantity: n, RMSE, bias, 95 % limits of agreement (Bland & Altman 1986),
 Pearson r and the coefficient of multiple correlation (Ferrari et al. 2010);

@@ -21,7 +21,7 @@ def plot_bland_altman(
     """Write one PNG with a grid of Bland–Altman plots, one panel per quantity.
 
     Each panel, as in seed paper 000 Fig. 13: x = mean of lowerlimb and
-    reference, y = difference ``lowerlimb − reference`` (DESIGN.md sign), a
+    reference, y = difference ``lowerlimb − reference`` (docs/formats.md sign), a
     solid green line at the bias, red lines at the 95 % limits of agreement
     and a dotted purple line at zero difference. Drawn on an Agg canvas
     without pyplot, so no display and no global state are touched.

@@ -1,6 +1,6 @@
 """Reading a ``calibrate`` output folder and a reference CSV; writing ``agreement.csv``/``.json``.
 
-Nothing here imports the command line; :mod:`lowerlimb.cli_compare` calls these.
+Nothing here imports the command line; :mod:`lowerlimb.cli.compare` calls these.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Agreement statistics of two synchronous waveforms: Bland–Altman, RMSE, Pearson r, CMC.
 
-The difference is always ``lowerlimb − reference`` (DESIGN.md, "Agreement with a reference").
+The difference is always ``lowerlimb − reference`` (docs/formats.md, "Agreement with a reference").
 """
 
 from __future__ import annotations

@@ -12,14 +12,13 @@ from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.constraints.angular_acceleration import angular_acceleration, window_length
 from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass, rigid_band_hz
 from lowerlimb.constraints.spherical import SphericalData
+from lowerlimb.conventions import MAX_GYRO_RAD_S as GYRO_DEG_PER_S_THRESHOLD
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError, NonFiniteValueError, ShapeError, UnitError
-from lowerlimb.stillness import gyro_bias, initial_still_samples
+from lowerlimb.stillness import StillPeriod, detect_still_period, gyro_bias
 
 #: Shortest signal accepted by the calibration, s.
 MIN_DURATION_S = 1.0
-#: Gyro readings above this norm (rad/s) look like deg/s.
-GYRO_DEG_PER_S_THRESHOLD = 35.0
 
 
 def check_rate(rate_hz: float) -> float:
@@ -124,6 +123,7 @@ def prepare_signals(
     rate_hz: float,
     options: CalibrationOptions,
     *,
+    still: StillPeriod | None = None,
     n_still: int | None = None,
     cap_hz: Mapping[str, float | None] | None = None,
 ) -> PreparedSignals:
@@ -134,7 +134,9 @@ def prepare_signals(
         gyr: ``{sensor: (N, 3)}`` checked gyro signals, rad/s.
         rate_hz: sampling rate, Hz.
         options: calibration options (window, bias removal).
-        n_still: still samples at the start when already detected (``None``: detect here).
+        still: the still start when already detected on these signals (else detected here).
+        n_still: the number of still samples when already decided (a sub-set of
+            sensors of prepared signals: the same bias window; overrides ``still``).
         cap_hz: ``{sensor: Hz or None}`` upper limits of the cut-offs (the rigid
             band, :func:`rigid_band_cap_hz`; ``None``: no limit).
 
@@ -144,9 +146,8 @@ def prepare_signals(
     if n_still is None:
         n_still = 0
         if options.remove_gyro_bias:
-            n_still = initial_still_samples(
-                list(gyr.values()), list(acc.values()), rate_hz, min_duration_s=options.still_min_s
-            )
+            found = still or detect_still_period(list(gyr.values()), list(acc.values()), rate_hz)
+            n_still = found.samples(options.still_min_s)
     bias = {k: gyro_bias(g, n_still) for k, g in gyr.items()}
     gyr_c = {k: g - bias[k] for k, g in gyr.items()}
     noise: dict[str, float | None] = {

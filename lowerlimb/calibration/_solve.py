@@ -8,45 +8,17 @@ residual and analytic Jacobian (``gn``), a population cost on a subsample
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
-
-import casadi as ca
 import numpy as np
 
 import solvers
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import SolverError
-
-
-@dataclass(frozen=True)
-class LsqProblem:
-    """One joint's least-squares problem in every form the solvers need.
-
-    Attributes:
-        residual: NumPy ``r(x)``, (n,) -> (M,).
-        jacobian: NumPy ``dr/dx``, (n,) -> (M, n).
-        cost_batch: population cost ``0.5·mean(r²)`` on a subsample, (P, n) -> (P,).
-        casadi_residual: per-sample CasADi function ``(x, p_k) -> r_k``.
-        casadi_params: (k, N) data matrix of ``casadi_residual``, one sample per column.
-        lower: (n,) lower corner of the swarm search box.
-        upper: (n,) upper corner of the swarm search box.
-        bounded: whether the Gauss–Newton solvers also get the box (False for angles).
-    """
-
-    residual: Callable[[FloatArray], FloatArray]
-    jacobian: Callable[[FloatArray], FloatArray]
-    cost_batch: Callable[[FloatArray], FloatArray]
-    casadi_residual: ca.Function
-    casadi_params: FloatArray
-    lower: FloatArray
-    upper: FloatArray
-    bounded: bool = True
+from solvers.problem import LeastSquaresProblem as LsqProblem
 
 
 def _wrap(e: Exception, what: str) -> SolverError:
-    return SolverError(f"{what} failed: {e}")
+    return SolverError(f"{what} failed: {e}", method=getattr(e, "method", ""), x=getattr(e, "x", None))
 
 
 def solve_local(
@@ -64,7 +36,7 @@ def solve_local(
             return solvers.casadi_lsq(
                 problem.casadi_residual,
                 x_start,
-                params=problem.casadi_params,
+                params=problem.data,
                 solver="gauss_newton",
                 lower=lo,
                 upper=hi,

@@ -2,7 +2,7 @@
 
 Public entry points:
 
-- :func:`estimate_hinge_axis` (DESIGN.md API): returns the two unit axes;
+- :func:`estimate_hinge_axis` (docs/architecture.md API): returns the two unit axes;
 - :func:`calibrate_hinge_axis`: the same with diagnostics
   (:class:`~lowerlimb.calibration.results.HingeAxisCalibration`).
 
@@ -20,7 +20,7 @@ Solving (choices the paper leaves open):
   the refined swarm result and the multi-start (on squats the swarm sometimes
   hands a minimum 90° away to the refinement).
 
-Sign resolution (eq. 4/6 cannot see the signs, NOTES.md):
+Sign resolution (eq. 4/6 cannot see the signs, docs/methods.md):
 
 1. *Relative sign*, from the gyros alone. With consistent signs the joint
    angle ``q(t) = ∫ (ω_C·j_C − ω_P·j_P) dt`` relates the angular-velocity

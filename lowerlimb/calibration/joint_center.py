@@ -2,7 +2,7 @@
 
 Public entry points:
 
-- :func:`estimate_joint_center` (DESIGN.md API): returns the two centres;
+- :func:`estimate_joint_center` (docs/architecture.md API): returns the two centres;
 - :func:`calibrate_spherical_joint`: the same with diagnostics
   (:class:`~lowerlimb.calibration.results.SphericalJointCalibration`).
 

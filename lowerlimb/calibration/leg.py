@@ -1,6 +1,6 @@
 """Whole-leg joint-constraint calibration: hip, knee and ankle from four IMUs (Hu et al. 2021 §2–3).
 
-:func:`calibrate_leg` runs, on one :class:`~lowerlimb.trial.ImuTrial`:
+:func:`calibrate_leg` runs, on one :class:`~lowerlimb.io.trial.ImuTrial`:
 
 1. gyro-bias removal from the still start, motion-adaptive prefilter and α
    for the four sensors (:mod:`~lowerlimb.calibration._prepare`);
@@ -14,7 +14,7 @@
 4. ankle: spherical joint shank–foot.
 
 ``runtime_s`` is the wall time of these steps (signal preparation included,
-trial loading excluded), the number DESIGN.md's calibration.json reports.
+trial loading excluded), the number calibration.json reports (docs/formats.md).
 """
 
 from __future__ import annotations
@@ -38,6 +38,7 @@ from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.conventions import JOINT_SENSORS, SENSORS, FloatArray
 from lowerlimb.errors import InputError
+from lowerlimb.stillness import StillPeriod
 
 __all__ = ["CALIBRATION_FORMAT", "LegCalibration", "calibrate_leg"]
 
@@ -56,7 +57,7 @@ class _TrialLike(Protocol):
 
 @dataclass
 class LegCalibration:
-    """Calibrated joints of one leg, serialisable to DESIGN.md's calibration.json.
+    """Calibrated joints of one leg, serialisable to calibration.json (docs/formats.md).
 
     Attributes:
         side: ``"left"`` or ``"right"``.
@@ -94,7 +95,7 @@ class LegCalibration:
         return self.hip.warnings + self.knee.warnings + self.ankle.warnings
 
     def to_dict(self) -> dict[str, Any]:
-        """The calibration.json document (DESIGN.md schema, metres; extras after)."""
+        """The calibration.json document (docs/formats.md schema, metres; extras after)."""
         return {
             "format": CALIBRATION_FORMAT,
             "side": self.side,
@@ -112,7 +113,7 @@ class LegCalibration:
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> LegCalibration:
-        """Inverse of :meth:`to_dict`; only the DESIGN.md keys are required.
+        """Inverse of :meth:`to_dict`; only the docs/formats.md keys are required.
 
         Raises:
             InputError: a missing key or another format.
@@ -145,16 +146,19 @@ def calibrate_leg(
     *,
     method: str = "casadi",
     options: CalibrationOptions | None = None,
+    still: StillPeriod | None = None,
 ) -> LegCalibration:
     """Calibrate hip, knee and ankle of one leg from a four-IMU trial (Hu et al. 2021).
 
     Args:
-        trial: an :class:`~lowerlimb.trial.ImuTrial` (``acc``/``gyr`` dicts of
+        trial: an :class:`~lowerlimb.io.trial.ImuTrial` (``acc``/``gyr`` dicts of
             (N, 3) arrays for pelvis, thigh, shank, foot in m/s² and rad/s;
             ``rate_hz``; ``side``). It should start with ≥ 1 s standing still.
         method: ``"casadi"`` (default), ``"gn"``, ``"dwpso"``, ``"gwo"``,
             ``"dwpso+casadi"`` or ``"gwo+casadi"``.
         options: tuning parameters (defaults: :class:`CalibrationOptions`).
+        still: the trial's still start when already detected
+            (:meth:`ImuTrial.still_period <lowerlimb.io.trial.ImuTrial.still_period>`).
 
     Returns:
         The calibration; ``to_dict()`` is the calibration.json document.
@@ -190,7 +194,7 @@ def calibrate_leg(
     check_duration(n, rate, opts)
 
     t0 = time.perf_counter()
-    sig = prepare_signals(acc, gyr, rate, opts)
+    sig = prepare_signals(acc, gyr, rate, opts, still=still)
     if opts.check_sensor_order:
         from lowerlimb.calibration.plausibility import check_sensor_order
 

@@ -6,13 +6,14 @@ from dataclasses import dataclass
 
 from lowerlimb.constraints.angular_acceleration import DEFAULT_POLYORDER, DEFAULT_WINDOW_S
 from lowerlimb.errors import InputError
+from lowerlimb.methods import CALIBRATION_METHODS
 
 __all__ = ["METHODS", "CalibrationOptions", "check_method"]
 
 #: Accepted ``method`` values: CasADi Gauss–Newton (default), NumPy Gauss–Newton
 #: with the analytic Jacobians, the two swarms (Hu 2021 §3.2–3.3), and a swarm
 #: followed by a CasADi refinement.
-METHODS: tuple[str, ...] = ("casadi", "gn", "dwpso", "gwo", "dwpso+casadi", "gwo+casadi")
+METHODS: tuple[str, ...] = tuple(CALIBRATION_METHODS)
 
 
 def check_method(method: str) -> str:

@@ -1,6 +1,6 @@
 """Result dataclasses of the joint calibration, with ``to_dict``/``from_dict`` in the calibration.json schema.
 
-The required keys of DESIGN.md (``type``, ``parent_sensor``, ``child_sensor``,
+The required keys of docs/formats.md (``type``, ``parent_sensor``, ``child_sensor``,
 ``center_in_parent_sensor``, ``center_in_child_sensor``, ``axis_in_*_sensor``
 for the knee, ``rms_residual``; metres) come first; the extra keys carry the
 diagnostics: standard deviations from the Gauss–Newton covariance, condition

@@ -17,8 +17,8 @@ samples at low rates, where the fit becomes the 5-point stencil). A degree-4
 fit is exact for quartic motion, so on the already band-limited signal its
 bias is negligible up to ~15 Hz at 100 Hz, while its own noise gain matters
 little after the low-pass. On the simulator (noise-free walking) a degree-2
-fit of the same length (the least-squares slope) biased the ankle centre by
-5–30 mm, the degree-4 fit by ≤ 2 mm.
+fit of the same length (the least-squares slope) biased the ankle centre
+several times more than the degree-4 fit.
 """
 
 from __future__ import annotations

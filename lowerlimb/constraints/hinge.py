@@ -8,11 +8,11 @@ axis have equal norms (eq. 4):
     e(t) = ‖ω_P(t) × j_P‖ − ‖ω_C(t) × j_C‖.                                (6)
 
 The axes are parametrised by spherical coordinates (eq. 5, corrected in
-NOTES.md: the last component is sin φ, not sin θ):
+docs/methods.md: the last component is sin φ, not sin θ):
 
     j(φ, θ) = (cos φ cos θ, cos φ sin θ, sin φ),     x = (φ_P, θ_P, φ_C, θ_C).
 
-The Jacobian (eq. 13–14, with the corrected denominator, NOTES.md):
+The Jacobian (eq. 13–14, with the corrected denominator, docs/methods.md):
 
     ∂‖ω × j‖/∂j = ((ω × j) × ω)ᵀ / ‖ω × j‖,
     ∂j/∂(φ, θ)  = [[−sin φ cos θ, −cos φ sin θ],

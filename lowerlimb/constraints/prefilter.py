@@ -19,10 +19,9 @@ leaves open, tuned on the simulator):
   share one frequency response.
 
 Per-sensor cut-offs beat one cut-off per joint on the simulator (walking:
-the pelvis is slow, the thigh fast). Tuning on 10 simulated walks with
-realistic noise (worst case over seeds, hip/ankle centres): factor 1.25 →
-18 mm, 1.5 → 10.5 mm, 2 → 13 mm, 3 → 20 mm; lower factors bias the fast
-sensors, higher ones let α noise through.
+the pelvis is slow, the thigh fast). The factor is tuned on simulated walks
+with realistic noise (``benchmarks/calibration_accuracy.py --option cutoff_factor=…``):
+lower factors bias the fast sensors, higher ones let α noise through.
 """
 
 from __future__ import annotations

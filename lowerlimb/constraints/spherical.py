@@ -1,7 +1,7 @@
 """Spherical-joint constraint: equal joint-centre acceleration norms (Hu et al. 2021, eq. 1–3, 7–9).
 
 Two sensors P (parent) and C (child) sit on two segments joined by a
-spherical joint. With the library convention (NOTES.md, section 000)
+spherical joint. With the library convention (docs/methods.md, errata)
 ``c_S`` = the joint centre expressed in sensor S's frame (``c = −V`` of the
 paper), the acceleration of the joint centre seen from sensor S is
 

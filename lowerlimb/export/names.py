@@ -8,7 +8,7 @@ from ..conventions import Side, check_side
 def split_side(name: str, side: str) -> tuple[Side, str]:
     """``"left_hip_flexion"`` -> ``("left", "hip_flexion")``; unprefixed names take ``side``.
 
-    Two-leg tables (DESIGN.md, "Two legs") prefix every per-leg column with
+    Two-leg tables (docs/formats.md, "Two legs") prefix every per-leg column with
     ``left_`` / ``right_``; one-leg tables do not and the trial's side applies.
 
     Raises:

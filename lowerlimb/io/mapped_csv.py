@@ -29,7 +29,7 @@ import numpy as np
 
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError, NonFiniteValueError, TimeAxisError, TooShortError
-from lowerlimb.trial import MIN_DURATION_S, ImuTrial
+from lowerlimb.io.trial import MIN_DURATION_S, ImuTrial
 
 from .csv_mapping import CsvMapping
 from .errors import ColumnNotFoundError, PacketGapError

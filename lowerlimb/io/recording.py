@@ -1,11 +1,11 @@
 """``ImportedRecording``: what a vendor importer read, one leg (four IMUs) or two legs (seven).
 
-A single-leg recording becomes an :class:`~lowerlimb.trial.ImuTrial`
+A single-leg recording becomes an :class:`~lowerlimb.io.trial.ImuTrial`
 (:meth:`ImportedRecording.to_trial`), validated by ``ImuTrial.validate``.
-:class:`~lowerlimb.trial.ImuTrial` holds one leg only, so a two-leg recording
+:class:`~lowerlimb.io.trial.ImuTrial` holds one leg only, so a two-leg recording
 is validated leg by leg (``pelvis`` with the ``left_*`` sensors, then with the
 ``right_*`` sensors, each as an ``ImuTrial``) and written straight to the
-two-leg trial CSV of DESIGN.md (:meth:`ImportedRecording.to_csv`).
+two-leg trial CSV of docs/formats.md (:meth:`ImportedRecording.to_csv`).
 """
 
 from __future__ import annotations
@@ -18,11 +18,11 @@ import numpy as np
 
 from lowerlimb.conventions import SENSORS, SIDES, FloatArray, check_side
 from lowerlimb.errors import InputError
-from lowerlimb.trial import ImuTrial, column_names
+from lowerlimb.io.trial import ImuTrial, column_names
 
 from .errors import MappingError
 
-#: Sensor names of a two-leg (seven-IMU) trial, in trial-CSV column order (DESIGN.md).
+#: Sensor names of a two-leg (seven-IMU) trial, in trial-CSV column order (docs/formats.md).
 TWO_LEG_SENSORS: tuple[str, ...] = ("pelvis",) + tuple(f"{s}_{p}" for s in SIDES for p in SENSORS[1:])
 
 
@@ -113,7 +113,7 @@ class ImportedRecording:
         )
 
     def to_trial(self) -> ImuTrial:
-        """The validated single-leg :class:`~lowerlimb.trial.ImuTrial`.
+        """The validated single-leg :class:`~lowerlimb.io.trial.ImuTrial`.
 
         Raises:
             InputError: for a two-leg recording (write it with :meth:`to_csv`), or any
@@ -148,7 +148,7 @@ class ImportedRecording:
                 raise InputError(f"{side} leg: {e}") from e
 
     def header(self) -> list[str]:
-        """Trial-CSV header (DESIGN.md: single-leg or two-leg names)."""
+        """Trial-CSV header (docs/formats.md: single-leg or two-leg names)."""
         names = ["time"]
         for s in self.sensors:
             names += column_names(s, "acc") + column_names(s, "gyr")

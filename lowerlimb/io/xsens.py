@@ -40,7 +40,7 @@ import numpy as np
 
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError
-from lowerlimb.trial import ImuTrial
+from lowerlimb.io.trial import ImuTrial
 
 from .errors import ColumnNotFoundError, MappingError, PacketGapError, SensorFileError
 from .params import XSENS_MAG_FIELD_UT, ImportParams

@@ -9,11 +9,9 @@ and the initial quaternion, then the filter's own parameters.
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import NDArray
 
+from lowerlimb.conventions import FloatArray
 from lowerlimb.orientation.initialisation import InitialState
-
-FloatArray = NDArray[np.float64]
 
 
 def loop_inputs(

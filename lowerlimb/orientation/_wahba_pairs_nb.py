@@ -20,11 +20,9 @@ import math
 
 import numpy as np
 from numba import njit
-from numpy.typing import NDArray
 
+from lowerlimb.conventions import FloatArray
 from lowerlimb.orientation._quaternion_nb import norm3, rotate_to_sensor
-
-FloatArray = NDArray[np.float64]
 
 
 @njit(cache=True)

@@ -19,10 +19,11 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 from scipy.optimize import minimize_scalar
 
 from lowerlimb.conventions import (
+    FloatArray,
     euler_zxy_from_matrix,
     quat_conjugate,
     quat_multiply,
@@ -30,8 +31,6 @@ from lowerlimb.conventions import (
     quat_to_matrix,
 )
 from lowerlimb.errors import ShapeError
-
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)

@@ -43,11 +43,10 @@ import math
 
 import numpy as np
 from numba import njit
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError, ShapeError
-
-FloatArray = NDArray[np.float64]
 
 
 @njit(cache=True, inline="always")

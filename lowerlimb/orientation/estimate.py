@@ -13,16 +13,17 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from lowerlimb.conventions import MAX_GYRO_RAD_S, MIN_MEDIAN_ACC_MPS2, FloatArray
 from lowerlimb.errors import InputError, NonFiniteValueError, ShapeError, UnitError
+from lowerlimb.methods import ORIENTATION_FILTERS
 from lowerlimb.orientation.ftecf import FtecfParams, ftecf_filter
 from lowerlimb.orientation.initialisation import initialise
 from lowerlimb.orientation.madgwick import MadgwickParams, madgwick_filter
 from lowerlimb.orientation.mahony import MahonyParams, mahony_filter
 from lowerlimb.orientation.quest_kf import QuestKfParams, quest_kf_filter
 
-FloatArray = NDArray[np.float64]
 OrientationParams = MahonyParams | FtecfParams | MadgwickParams | QuestKfParams
 
 #: method name -> (filter function, its params class)
@@ -32,13 +33,8 @@ FILTERS: dict[str, tuple[Callable[..., FloatArray], type]] = {
     "madgwick": (madgwick_filter, MadgwickParams),
     "quest_kf": (quest_kf_filter, QuestKfParams),
 }
-#: Valid values of ``method``.
-METHODS: tuple[str, ...] = tuple(FILTERS)
-
-#: Largest plausible gyro reading in rad/s (about 2000 °/s, the range of common MEMS gyros).
-MAX_GYRO_RAD_S = 35.0
-#: A median accelerometer norm below this (m/s²) means the unit is g.
-MIN_MEDIAN_ACC_MPS2 = 3.0
+#: Valid values of ``method``: the registry :data:`lowerlimb.methods.ORIENTATION_FILTERS`.
+METHODS: tuple[str, ...] = tuple(ORIENTATION_FILTERS)
 
 
 def _as_signal(name: str, x: Any) -> FloatArray:
@@ -137,7 +133,7 @@ def estimate_orientation(
             :class:`QuestKfParams`); ``None`` uses the benchmarked defaults.
         remove_bias: Estimate the gyro bias as the mean rate of the still start
             and subtract it (nothing is subtracted when the start moves).
-        gyro_timing: ``"instantaneous"`` (DESIGN.md: sample k is the angular
+        gyro_timing: ``"instantaneous"`` (docs/conventions.md: sample k is the angular
             velocity at t_k) or ``"interval_mean"`` (sample k is the mean rate
             over (t_{k-1}, t_k], as many IMUs with internal integration
             deliver). The filters rotate by the mean rate of each interval, so

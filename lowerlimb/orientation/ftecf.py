@@ -46,10 +46,8 @@ Addition to the paper (parameter ``acc_lowpass_s``, on by default):
   blend are unchanged. ``acc_lowpass_s = 0`` gives the paper's filter.
   With the low-pass the defaults were re-tuned (larger δw, since the
   low-passed vector is usable during fast turns; ``k_a`` 0.3 1/s; magnetic
-  weight 0.1). Benchmarks (``benchmarks/results/orientation.md``,
-  ``pipeline_accuracy.py --filters ftecf``): mean total RMSE on BROAD
-  2.60° instead of 3.01° (9-axis), and the leg pipeline's joint angles on a
-  simulated walk below 1.3° instead of 2–5°.
+  weight 0.1). The effect is measured in ``benchmarks/results/orientation.md``
+  and ``benchmarks/results/pipeline_accuracy.md`` (``pipeline_accuracy.py --filters ftecf``).
 """
 
 from __future__ import annotations
@@ -59,8 +57,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
-from numpy.typing import NDArray
 
+from lowerlimb.conventions import FloatArray
 from lowerlimb.orientation._filter_inputs import loop_inputs, magnetic_reference
 from lowerlimb.orientation._quaternion_nb import (
     earth_lowpass,
@@ -74,8 +72,6 @@ from lowerlimb.orientation._wahba_pairs_nb import hemisphere_sign, measure_pairs
 from lowerlimb.orientation.esoq2 import esoq2_kernel
 from lowerlimb.orientation.fuzzy_fusion import fuzzy_gain
 from lowerlimb.orientation.initialisation import InitialState
-
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)

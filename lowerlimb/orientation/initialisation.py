@@ -1,6 +1,6 @@
 """Initial attitude and gyro bias from the standing-still start of a recording.
 
-A trial should begin with the subject standing still (DESIGN.md). During that
+A trial should begin with the subject standing still (docs/formats.md). During that
 rest the accelerometer measures gravity only, which fixes the inclination; the
 magnetometer, when given, fixes the heading; and the mean gyro reading is the
 gyro bias. When the start is not still, the first samples still give a rough
@@ -13,12 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from lowerlimb.conventions import GRAVITY_MPS2, quat_from_matrix
+from lowerlimb.conventions import GRAVITY_MPS2, FloatArray, quat_from_matrix
 from lowerlimb.errors import InputError
-
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)

@@ -21,11 +21,9 @@ Addition to the paper (parameter ``acc_lowpass_s``, on by default):
   does not, so the gradient no longer follows the shank's and foot's
   accelerations of several g during walking. The step remains the paper's
   normalised gradient step of length ``β Δt``. ``acc_lowpass_s = 0`` gives
-  the original filter. Benchmarks (``benchmarks/results/orientation.md``,
-  ``pipeline_accuracy.py --filters madgwick``): with the low-pass and
-  ``β = 0.007`` the mean total RMSE on BROAD drops from 2.48° to 2.30°
-  (9-axis) and the leg pipeline's joint angles on a simulated walk from
-  2–4° to below 1°.
+  the original filter. The effect is measured in
+  ``benchmarks/results/orientation.md`` and ``benchmarks/results/pipeline_accuracy.md``
+  (``pipeline_accuracy.py --filters madgwick``).
 
 Other choices: the reference field points north along ENU +y (Madgwick's
 report uses north = x); the gyro part is integrated exactly,
@@ -44,8 +42,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
-from numpy.typing import NDArray
 
+from lowerlimb.conventions import FloatArray
 from lowerlimb.orientation._filter_inputs import loop_inputs
 from lowerlimb.orientation._quaternion_nb import (
     earth_lowpass,
@@ -57,8 +55,6 @@ from lowerlimb.orientation._quaternion_nb import (
     rotate_to_earth,
 )
 from lowerlimb.orientation.initialisation import InitialState
-
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,7 @@
 """PI complementary filter (Mahony) — Hu et al. 2021 §4.3, eq. 43–50, plus a magnetometer term.
 
 The estimated "up" direction in the sensor frame (eq. 45–46) is compared with
-the measured one by a cross product (eq. 47, corrected per NOTES.md:
+the measured one by a cross product (eq. 47, corrected per docs/methods.md:
 ``ζ = a × g_est``); a proportional–integral correction of the gyro rate
 (eq. 48–49) pulls the estimate towards the accelerometer and learns the gyro
 bias; the corrected rate is integrated, ``q̇ = ½ q ⊗ (0, ω)``, and the
@@ -46,8 +46,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
-from numpy.typing import NDArray
 
+from lowerlimb.conventions import FloatArray
 from lowerlimb.orientation._filter_inputs import loop_inputs, magnetic_reference
 from lowerlimb.orientation._magnetic_nb import mag_heading_error
 from lowerlimb.orientation._quaternion_nb import (
@@ -61,15 +61,13 @@ from lowerlimb.orientation._quaternion_nb import (
 )
 from lowerlimb.orientation.initialisation import InitialState
 
-FloatArray = NDArray[np.float64]
-
 
 @dataclass(frozen=True)
 class MahonyParams:
     """Gains of the PI filter; defaults chosen by ``benchmarks/tune_orientation.py``.
 
     The paper writes ``λp = 2Δt`` and ``λi = 0.1Δt`` and calls Δt the sampling
-    *frequency*; here both are rate-independent gains (NOTES.md).
+    *frequency*; here both are rate-independent gains (docs/methods.md).
 
     Attributes:
         kp: Proportional gain λp of the accelerometer error, rad/s per unit

@@ -19,8 +19,9 @@ import math
 
 import numpy as np
 from numba import njit
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from lowerlimb.conventions import FloatArray
 from lowerlimb.orientation.esoq2 import (
     _check_pairs,
     attitude_profile,
@@ -28,8 +29,6 @@ from lowerlimb.orientation.esoq2 import (
     turn_reference,
     undo_rotation,
 )
-
-FloatArray = NDArray[np.float64]
 
 
 @njit(cache=True)

@@ -36,15 +36,13 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
-from numpy.typing import NDArray
 
+from lowerlimb.conventions import FloatArray
 from lowerlimb.orientation._filter_inputs import loop_inputs, magnetic_reference
 from lowerlimb.orientation._quaternion_nb import norm3, put_quat, qintegrate, qnormalize
 from lowerlimb.orientation._wahba_pairs_nb import hemisphere_sign, measure_pairs, reference_pairs
 from lowerlimb.orientation.initialisation import InitialState
 from lowerlimb.orientation.quest import quest_kernel
-
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Literal, cast
+from typing import TYPE_CHECKING, Any, Literal, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -38,6 +38,9 @@ from lowerlimb.s2j.relative_position import (
     relative_rotation,
     segment_relative_positions,
 )
+
+if TYPE_CHECKING:
+    from lowerlimb.calibration import LegCalibration
 
 Method = Literal["M1", "M2", "M3"]
 METHODS: tuple[str, ...] = ("M1", "M2", "M3")
@@ -112,13 +115,14 @@ def _constant(constant: Mapping[str, tuple[ArrayLike, ArrayLike]]) -> dict[str, 
     return out
 
 
-def constant_s2j_from_calibration(calibration: Mapping[str, Any]) -> dict[str, S2JPair]:
-    """Constant (M1) S2J vectors from a ``calibration.json`` dictionary (DESIGN.md schema).
+def constant_s2j_from_calibration(calibration: LegCalibration | Mapping[str, Any]) -> dict[str, S2JPair]:
+    """Constant (M1) S2J vectors from a joint calibration.
 
     Args:
-        calibration: the parsed ``calibration.json`` (or the simulator's
-            ``truth``), with ``joints.<joint>.center_in_parent_sensor`` and
-            ``center_in_child_sensor`` in metres.
+        calibration: a :class:`~lowerlimb.calibration.LegCalibration`, or the
+            parsed ``calibration.json`` (or the simulator's ``truth``) with
+            ``joints.<joint>.center_in_parent_sensor`` and
+            ``center_in_child_sensor`` in metres (docs/formats.md).
 
     Returns:
         Joint -> ``(s_prox (3,), s_dist (3,))``, m, parent / child sensor frames.
@@ -126,6 +130,10 @@ def constant_s2j_from_calibration(calibration: Mapping[str, Any]) -> dict[str, S
     Raises:
         InputError: when a joint or centre is missing.
     """
+    if not isinstance(calibration, Mapping) and hasattr(calibration, "joints"):
+        return _constant(
+            {j: (c.center_in_parent_sensor, c.center_in_child_sensor) for j, c in calibration.joints.items()}
+        )
     joints = calibration.get("joints") if isinstance(calibration, Mapping) else None
     if not isinstance(joints, Mapping):
         raise InputError("calibration has no 'joints' mapping; pass the parsed calibration.json dictionary")

@@ -19,7 +19,7 @@ kinematics are tested against.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -36,40 +36,52 @@ RELATIVE_POSITIONS: tuple[tuple[str, str, str], ...] = (
 )
 
 
-def _vectors(name: str, value: ArrayLike) -> FloatArray:
-    """Return ``value`` as a float array of shape (3,) or (N, 3), or raise ShapeError."""
+def _finite_array(
+    name: str, value: ArrayLike, shape_ok: Callable[[FloatArray], bool], message: str
+) -> FloatArray:
+    """``value`` as a finite float array whose shape passes ``shape_ok``.
+
+    Raises:
+        ShapeError: ``message`` (with ``{name}`` and ``{shape}`` filled in) when the shape fails.
+        InputError: a NaN or infinite value.
+    """
     a = np.asarray(value, dtype=float)
-    if a.ndim not in (1, 2) or a.shape[-1] != 3:
-        raise ShapeError(
-            f"{name} must have shape (3,) or (N, 3) (x, y, z in metres), got {a.shape}; "
-            f"stack the samples as rows"
-        )
+    if not shape_ok(a):
+        raise ShapeError(message.format(name=name, shape=a.shape))
     if not np.all(np.isfinite(a)):
         raise InputError(f"{name} contains NaN or infinite values; fill or cut the gaps first")
     return a
+
+
+def _vectors(name: str, value: ArrayLike) -> FloatArray:
+    """Return ``value`` as a float array of shape (3,) or (N, 3), or raise ShapeError."""
+    return _finite_array(
+        name,
+        value,
+        lambda a: a.ndim in (1, 2) and a.shape[-1] == 3,
+        "{name} must have shape (3,) or (N, 3) (x, y, z in metres), got {shape}; stack the samples as rows",
+    )
 
 
 def _rotations(name: str, value: ArrayLike) -> FloatArray:
     """Return ``value`` as a float array of shape (3, 3) or (N, 3, 3), or raise ShapeError."""
-    a = np.asarray(value, dtype=float)
-    if a.ndim not in (2, 3) or a.shape[-2:] != (3, 3):
-        raise ShapeError(
-            f"{name} must be rotation matrices of shape (3, 3) or (N, 3, 3), got {a.shape}; "
-            f"convert quaternions with relative_rotation()"
-        )
-    if not np.all(np.isfinite(a)):
-        raise InputError(f"{name} contains NaN or infinite values; fill or cut the gaps first")
-    return a
+    return _finite_array(
+        name,
+        value,
+        lambda a: a.ndim in (2, 3) and a.shape[-2:] == (3, 3),
+        "{name} must be rotation matrices of shape (3, 3) or (N, 3, 3), got {shape}; "
+        "convert quaternions with relative_rotation()",
+    )
 
 
 def _quaternions(name: str, value: ArrayLike) -> FloatArray:
     """Return ``value`` as a float array of shape (N, 4), or raise ShapeError."""
-    a = np.asarray(value, dtype=float)
-    if a.ndim != 2 or a.shape[1] != 4:
-        raise ShapeError(f"{name} must be quaternions of shape (N, 4) in w, x, y, z order, got {a.shape}")
-    if not np.all(np.isfinite(a)):
-        raise InputError(f"{name} contains NaN or infinite values; fill or cut the gaps first")
-    return a
+    return _finite_array(
+        name,
+        value,
+        lambda a: a.ndim == 2 and a.shape[1] == 4,
+        "{name} must be quaternions of shape (N, 4) in w, x, y, z order, got {shape}",
+    )
 
 
 def _check_lengths(
@@ -141,7 +153,7 @@ def chain_position(
     """Pelvis-to-foot position, eq. 3: ``p_PF = p_PT + R_PT p_TS + R_PT R_TS p_SF``.
 
     (The print of eq. 3 is garbled; this is the composition of rigid
-    transforms, see NOTES.md.)
+    transforms, see docs/methods.md.)
 
     Args:
         p_PT: (3,) or (N, 3) thigh sensor relative to the pelvis sensor, pelvis frame, m.

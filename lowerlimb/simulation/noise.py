@@ -10,7 +10,7 @@ class ImuNoise:
     """White noise and bias added to the ideal IMU signals.
 
     The default is a realistic consumer-grade MEMS IMU at 100 Hz
-    (NOTES.md: gyro 0.01–0.02 rad/s, accelerometer 0.05–0.1 m/s² white noise,
+    (docs/methods.md: gyro 0.01–0.02 rad/s, accelerometer 0.05–0.1 m/s² white noise,
     constant gyro bias ≈ 0.01 rad/s).
 
     Attributes:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..conventions import FloatArray, quat_normalize, quat_to_matrix
-from ..leg_geometry import LegGeometry, transform
+from ..model.geometry import LegGeometry, transform
 
 
 def _frame_with_normal(normal: FloatArray, rng: np.random.Generator, tilt_rad: float) -> FloatArray:

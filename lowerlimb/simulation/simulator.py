@@ -1,6 +1,6 @@
 """The IMU simulator: exactly what four leg IMUs measure for a known motion.
 
-The leg is the :class:`~lowerlimb.leg_model.LegModel` built from a template
+The leg is the :class:`~lowerlimb.model.leg_model.LegModel` built from a template
 with random sensor placements; its pelvis hangs from a composite root joint
 (x, y, z translation in the ENU world, heading about the vertical, then the
 pelvis tilt/obliquity/rotation), so every configuration coordinate is a plain
@@ -31,9 +31,9 @@ from ..conventions import (
     quat_make_continuous,
 )
 from ..errors import InputError
-from ..leg_geometry import LegGeometry
-from ..leg_model import DOF_NAMES, LegModel
-from ..trial import ImuTrial
+from ..io.trial import ImuTrial
+from ..model.geometry import LegGeometry
+from ..model.leg_model import DOF_NAMES, LegModel
 from .motions import MOTION_FUNCTIONS, MOTIONS, smoothstep
 from .noise import ImuNoise, SoftTissue
 from .placements import random_placements

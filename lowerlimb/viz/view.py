@@ -2,20 +2,19 @@
 
 ``DIR`` is an output directory of ``lowerlimb calibrate``; the view needs its
 ``calibrated.urdf`` (the leg) and ``angles.csv`` (the motion, degrees). The
-scene is the one of the report (:mod:`lowerlimb.scene`): segments, IMUs with
+scene is the one of the report (:mod:`lowerlimb.viz.scene`): segments, IMUs with
 their axes, joint centres and the knee axis, animated with meshcat's
 Animation so that the page has play/pause, a time slider and a speed control
 (*Open Controls → Animations*).
 
 :func:`build_animation` fills any meshcat visualizer (by default a
-:class:`~lowerlimb.scene.CommandRecorder`, no server) and is what the tests
+:class:`~lowerlimb.viz.scene.CommandRecorder`, no server) and is what the tests
 use; :func:`serve` starts meshcat's server, and :func:`run_view` (the
 command) serves until Ctrl-C.
 """
 
 from __future__ import annotations
 
-import argparse
 import os
 import subprocess
 import time
@@ -27,10 +26,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .conventions import ANGLE_COLUMNS, FloatArray
-from .errors import InputError
-from .leg_model import LegModel
-from .output import read_table
+from ..conventions import ANGLE_COLUMNS, FloatArray
+from ..errors import InputError
+from ..io.tables import read_table
+from ..model.leg_model import LegModel
 from .scene import DEFAULT_FPS, CommandRecorder, LegScene, draw_leg, live_visualizer
 
 if TYPE_CHECKING:
@@ -210,21 +209,21 @@ def serve(
     return session
 
 
-def run_view(args: argparse.Namespace) -> None:
+def run_view(directory: str | os.PathLike[str], *, open_browser: bool = False) -> None:
     """``lowerlimb view DIR``: serve the animated leg and print its URL until Ctrl-C.
 
     Args:
-        args: parsed command line with ``dir`` (and optionally ``open``: open
-            a web browser).
+        directory: output directory of ``lowerlimb calibrate``.
+        open_browser: also open the page in the default web browser.
 
     Raises:
-        InputError: when DIR lacks ``calibrated.urdf`` or ``angles.csv``.
+        InputError: when the directory lacks ``calibrated.urdf`` or ``angles.csv``.
     """
-    session = serve(args.dir, open_browser=bool(getattr(args, "open", False)))
+    session = serve(directory, open_browser=open_browser)
     try:
         scene = session.animation.scene
         print(
-            f"lowerlimb: showing {args.dir} ({len(scene.frame_time_s)} frames, "
+            f"lowerlimb: showing {directory} ({len(scene.frame_time_s)} frames, "
             f"{scene.frame_time_s[-1]:.1f} s) at {session.url}",
             flush=True,
         )

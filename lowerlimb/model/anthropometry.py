@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .conventions import FloatArray
+from ..conventions import FloatArray
 
 _REF_STATURE_M = 1.741
 

@@ -3,7 +3,7 @@
 Segment origins sit at the proximal joint centre (thigh: hip, shank: knee,
 foot: ankle); the pelvis keeps the template's hip offset. The knee centre is
 taken on the calibrated axis, in the plane through the hip centre normal to
-the axis (any point of the axis is a valid hinge centre, NOTES.md on eq. 16),
+the axis (any point of the axis is a valid hinge centre, docs/methods.md on eq. 16),
 and the same shift along the axis is applied in the shank sensor. Because the
 segment frames are the ones the joint angles are computed in, the model's
 joint coordinates reproduce the measured relative orientations exactly, and
@@ -13,49 +13,49 @@ its forward kinematics is Lee & Lee 2022 eq. 2–3.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
 
-from .conventions import FloatArray
-from .leg_geometry import LegGeometry, transform, translation
+from ..conventions import FloatArray
+from ..segments.frames import SegmentFrames
+from .geometry import LegGeometry, transform, translation
 from .leg_model import LegModel
-from .segment_frames import SegmentFrames
+
+if TYPE_CHECKING:
+    from ..calibration import LegCalibration
 
 
-def knee_center_pair(calibration: dict[str, object]) -> tuple[FloatArray, FloatArray]:
+def knee_center_pair(calibration: LegCalibration) -> tuple[FloatArray, FloatArray]:
     """Knee centre (3,) in the thigh and in the shank sensor, on the axis level with the hip centre."""
-    joints = calibration["joints"]
-    assert isinstance(joints, dict)
-    knee, hip = joints["knee"], joints["hip"]
-    a_t = np.asarray(knee["axis_in_parent_sensor"], dtype=float)
-    a_s = np.asarray(knee["axis_in_child_sensor"], dtype=float)
+    knee, hip = calibration.knee, calibration.hip
+    a_t = np.asarray(knee.axis_in_parent_sensor, dtype=float)
+    a_s = np.asarray(knee.axis_in_child_sensor, dtype=float)
     a_t, a_s = a_t / np.linalg.norm(a_t), a_s / np.linalg.norm(a_s)
-    c_t = np.asarray(knee["center_in_parent_sensor"], dtype=float)
-    c_s = np.asarray(knee["center_in_child_sensor"], dtype=float)
-    shift = float((np.asarray(hip["center_in_child_sensor"], dtype=float) - c_t) @ a_t)
+    c_t = np.asarray(knee.center_in_parent_sensor, dtype=float)
+    c_s = np.asarray(knee.center_in_child_sensor, dtype=float)
+    shift = float((np.asarray(hip.center_in_child_sensor, dtype=float) - c_t) @ a_t)
     # the two centres are one point only up to a shift along the axis; keep their
     # common offset and move both by the same amount
     return c_t + shift * a_t, c_s + shift * a_s
 
 
 def calibrated_geometry(
-    calibration: dict[str, object],
+    calibration: LegCalibration,
     frames: SegmentFrames,
     *,
     height_m: float = 1.75,
     mass_kg: float = 75.0,
 ) -> LegGeometry:
-    """The subject's :class:`LegGeometry` from a calibration dict and segment frames."""
-    joints = calibration["joints"]
-    assert isinstance(joints, dict)
+    """The subject's :class:`LegGeometry` from a joint calibration and segment frames."""
     geo = LegGeometry.from_anthropometry(frames.side, height_m, mass_kg)
     R = frames.R_sensor_segment
-    c_hip_p = np.asarray(joints["hip"]["center_in_parent_sensor"], dtype=float)
-    c_hip_t = np.asarray(joints["hip"]["center_in_child_sensor"], dtype=float)
+    c_hip_p = np.asarray(calibration.hip.center_in_parent_sensor, dtype=float)
+    c_hip_t = np.asarray(calibration.hip.center_in_child_sensor, dtype=float)
     c_knee_t, c_knee_s = knee_center_pair(calibration)
-    c_ank_s = np.asarray(joints["ankle"]["center_in_parent_sensor"], dtype=float)
-    c_ank_f = np.asarray(joints["ankle"]["center_in_child_sensor"], dtype=float)
+    c_ank_s = np.asarray(calibration.ankle.center_in_parent_sensor, dtype=float)
+    c_ank_f = np.asarray(calibration.ankle.center_in_child_sensor, dtype=float)
 
     hip_origin = geo.joint_origins["hip"][:3, 3]
     geo.sensor_placements = {
@@ -66,7 +66,7 @@ def calibrated_geometry(
     }
     geo.joint_origins["knee"] = translation(R["thigh"].T @ (c_knee_t - c_hip_t))
     geo.joint_origins["ankle"] = translation(R["shank"].T @ (c_ank_s - c_knee_s))
-    geo.knee_axis_in_thigh = R["thigh"].T @ np.asarray(joints["knee"]["axis_in_parent_sensor"], dtype=float)
+    geo.knee_axis_in_thigh = R["thigh"].T @ np.asarray(calibration.knee.axis_in_parent_sensor, dtype=float)
     geo.knee_axis_in_thigh /= np.linalg.norm(geo.knee_axis_in_thigh)
     return geo
 

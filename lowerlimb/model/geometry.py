@@ -24,8 +24,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import yourdfpy
 
-from .anthropometry import SegmentInertia, ankle_height_m, hip_spacing_m, segment_inertias
-from .conventions import (
+from ..conventions import (
     JOINT_AXIS_SIGNS,
     JOINT_DOF_NAMES,
     JOINTS,
@@ -33,7 +32,8 @@ from .conventions import (
     FloatArray,
     check_side,
 )
-from .errors import InputError
+from ..errors import InputError
+from .anthropometry import SegmentInertia, ankle_height_m, hip_spacing_m, segment_inertias
 
 #: Segment that carries each sensor.
 SENSOR_SEGMENT = {"pelvis": "pelvis", "thigh": "thigh", "shank": "shank", "foot": "foot"}
@@ -89,7 +89,7 @@ class LegGeometry:
             (= thigh frame rotated by the knee origin), pointing to the right.
         sensor_placements: ``{sensor: (4, 4)}`` pose of each IMU frame in its
             segment frame (rotation maps sensor to segment coordinates).
-        inertias: de Leva segment inertias (see :mod:`lowerlimb.anthropometry`).
+        inertias: de Leva segment inertias (see :mod:`lowerlimb.model.anthropometry`).
     """
 
     side: str
@@ -128,123 +128,118 @@ class LegGeometry:
     # ------------------------------------------------------------------ URDF
 
     def to_robot(self) -> yourdfpy.Robot:
-        """The yourdfpy ``Robot`` of this leg (see the module docstring for its structure)."""
+        """The yourdfpy ``Robot`` of this leg (see the module docstring for its structure).
+
+        Stages: the pelvis link; per joint, its three revolute DOFs with their
+        intermediate links and the distal segment (:meth:`_joint_chain`); per
+        sensor, an IMU link on a fixed joint (:meth:`_imu_link`, :meth:`_imu_joint`).
+        """
         side = check_side(self.side)
+        links: list[yourdfpy.Link] = [self._segment_link("pelvis")]
+        joints: list[yourdfpy.Joint] = []
+        for joint in JOINTS:
+            chain_links, chain_joints = self._joint_chain(joint, side)
+            links += chain_links
+            joints += chain_joints
+        for sensor in SENSORS:
+            links.append(self._imu_link(sensor))
+            joints.append(self._imu_joint(sensor))
+        return yourdfpy.Robot(
+            name=f"lowerlimb_{side}", links=links, joints=joints, materials=[_SEGMENT_MATERIAL, _IMU_MATERIAL]
+        )
+
+    def _segment_link(self, name: str) -> yourdfpy.Link:
+        """A body segment: its de Leva inertia and a simple visual (cylinder, box)."""
+        inertia = self.inertias[name]
+        return yourdfpy.Link(
+            name=name,
+            inertial=yourdfpy.Inertial(
+                origin=translation(inertia.com_m),
+                mass=inertia.mass_kg,
+                inertia=inertia.inertia_kgm2,
+            ),
+            visuals=[self._segment_visual(name)],
+        )
+
+    def _segment_visual(self, name: str) -> yourdfpy.Visual:
+        """Thigh and shank: a cylinder along −y; foot: a box; pelvis: a box."""
+        L = self.inertias[name].length_m
+        if name in ("thigh", "shank"):
+            origin = transform(_rx90(), [0.0, -0.5 * L, 0.0])
+            radius = 0.045 if name == "thigh" else 0.035
+            geometry = yourdfpy.Geometry(cylinder=yourdfpy.Cylinder(radius=radius, length=L))
+        elif name == "foot":
+            h = ankle_height_m(self.height_m)
+            origin = translation([0.5 * L - 0.22 * L, -0.5 * h, 0.0])
+            geometry = yourdfpy.Geometry(box=yourdfpy.Box(np.array([L, h, 0.09])))
+        else:
+            origin = translation([0.0, 0.05, 0.0])
+            geometry = yourdfpy.Geometry(box=yourdfpy.Box(np.array([0.12, 0.12, 0.25])))
+        return yourdfpy.Visual(
+            name=f"{name}_visual", origin=origin, geometry=geometry, material=_SEGMENT_MATERIAL
+        )
+
+    def _joint_axes(self, joint: str, side: str) -> list[FloatArray]:
+        """The three DOF axes of a joint (flexion, adduction, rotation) with the side's signs."""
+        signs = JOINT_AXIS_SIGNS[side][joint]
+        if joint == "knee":
+            # knee flexion is a negative rotation about the right-pointing axis
+            first_axis = signs[0] * _unit(self.knee_axis_in_thigh)
+        else:
+            first_axis = signs[0] * np.array([0.0, 0.0, 1.0])
+        return [first_axis, signs[1] * np.array([1.0, 0.0, 0.0]), signs[2] * np.array([0.0, 1.0, 0.0])]
+
+    def _joint_chain(self, joint: str, side: str) -> tuple[list[yourdfpy.Link], list[yourdfpy.Joint]]:
+        """Three revolute DOFs of a joint, two massless intermediate links and the distal segment."""
+        parent, child = JOINT_SEGMENTS[joint]
+        axes = self._joint_axes(joint, side)
+        names = JOINT_DOF_NAMES[joint]
+        chain = [parent, f"{names[0]}_link", f"{names[1]}_link", child]
         links: list[yourdfpy.Link] = []
         joints: list[yourdfpy.Joint] = []
-        grey = yourdfpy.Material(name="segment", color=yourdfpy.Color(np.array([0.7, 0.7, 0.75, 1.0])))
-        orange = yourdfpy.Material(name="imu", color=yourdfpy.Color(np.array([1.0, 0.5, 0.0, 1.0])))
-
-        def seg_link(name: str) -> yourdfpy.Link:
-            inertia = self.inertias[name]
-            visuals = []
-            if name in ("thigh", "shank"):
-                L = inertia.length_m
-                visuals.append(
-                    yourdfpy.Visual(
-                        name=f"{name}_visual",
-                        origin=transform(_rx90(), [0.0, -0.5 * L, 0.0]),
-                        geometry=yourdfpy.Geometry(
-                            cylinder=yourdfpy.Cylinder(radius=0.045 if name == "thigh" else 0.035, length=L)
-                        ),
-                        material=grey,
-                    )
-                )
-            elif name == "foot":
-                L = inertia.length_m
-                h = ankle_height_m(self.height_m)
-                visuals.append(
-                    yourdfpy.Visual(
-                        name="foot_visual",
-                        origin=translation([0.5 * L - 0.22 * L, -0.5 * h, 0.0]),
-                        geometry=yourdfpy.Geometry(box=yourdfpy.Box(np.array([L, h, 0.09]))),
-                        material=grey,
-                    )
-                )
-            else:
-                visuals.append(
-                    yourdfpy.Visual(
-                        name="pelvis_visual",
-                        origin=translation([0.0, 0.05, 0.0]),
-                        geometry=yourdfpy.Geometry(box=yourdfpy.Box(np.array([0.12, 0.12, 0.25]))),
-                        material=grey,
-                    )
-                )
-            return yourdfpy.Link(
-                name=name,
-                inertial=yourdfpy.Inertial(
-                    origin=translation(inertia.com_m),
-                    mass=inertia.mass_kg,
-                    inertia=inertia.inertia_kgm2,
-                ),
-                visuals=visuals,
-            )
-
-        def tiny_link(name: str) -> yourdfpy.Link:
-            return yourdfpy.Link(
-                name=name,
-                inertial=yourdfpy.Inertial(
-                    origin=np.eye(4), mass=_TINY_MASS, inertia=_TINY_INERTIA * np.eye(3)
-                ),
-            )
-
-        links.append(seg_link("pelvis"))
-        for joint in JOINTS:
-            parent, child = JOINT_SEGMENTS[joint]
-            signs = JOINT_AXIS_SIGNS[side][joint]
-            if joint == "knee":
-                # knee flexion is a negative rotation about the right-pointing axis
-                first_axis = signs[0] * _unit(self.knee_axis_in_thigh)
-            else:
-                first_axis = signs[0] * np.array([0.0, 0.0, 1.0])
-            axes = [
-                first_axis,
-                signs[1] * np.array([1.0, 0.0, 0.0]),
-                signs[2] * np.array([0.0, 1.0, 0.0]),
-            ]
-            names = JOINT_DOF_NAMES[joint]
-            chain = [parent, f"{names[0]}_link", f"{names[1]}_link", child]
-            for k, dof in enumerate(names):
-                lo, hi = JOINT_LIMITS_RAD[joint][k]
-                joints.append(
-                    yourdfpy.Joint(
-                        name=dof,
-                        type="revolute",
-                        parent=chain[k],
-                        child=chain[k + 1],
-                        origin=self.joint_origins[joint] if k == 0 else np.eye(4),
-                        axis=axes[k],
-                        limit=yourdfpy.Limit(effort=400.0, velocity=30.0, lower=lo, upper=hi),
-                    )
-                )
-                links.append(tiny_link(chain[k + 1]) if k < 2 else seg_link(child))
-        for sensor in SENSORS:
-            links.append(
-                yourdfpy.Link(
-                    name=f"imu_{sensor}",
-                    inertial=yourdfpy.Inertial(
-                        origin=np.eye(4), mass=_TINY_MASS, inertia=_TINY_INERTIA * np.eye(3)
-                    ),
-                    visuals=[
-                        yourdfpy.Visual(
-                            name=f"imu_{sensor}_visual",
-                            origin=np.eye(4),
-                            geometry=yourdfpy.Geometry(box=yourdfpy.Box(np.array([0.04, 0.03, 0.015]))),
-                            material=orange,
-                        )
-                    ],
-                )
-            )
+        for k, dof in enumerate(names):
+            lo, hi = JOINT_LIMITS_RAD[joint][k]
             joints.append(
                 yourdfpy.Joint(
-                    name=f"imu_{sensor}_joint",
-                    type="fixed",
-                    parent=SENSOR_SEGMENT[sensor],
-                    child=f"imu_{sensor}",
-                    origin=self.sensor_placements[sensor],
+                    name=dof,
+                    type="revolute",
+                    parent=chain[k],
+                    child=chain[k + 1],
+                    origin=self.joint_origins[joint] if k == 0 else np.eye(4),
+                    axis=axes[k],
+                    limit=yourdfpy.Limit(effort=400.0, velocity=30.0, lower=lo, upper=hi),
                 )
             )
-        return yourdfpy.Robot(name=f"lowerlimb_{side}", links=links, joints=joints, materials=[grey, orange])
+            if k < 2:
+                links.append(yourdfpy.Link(name=chain[k + 1], inertial=_tiny_inertial()))
+            else:
+                links.append(self._segment_link(child))
+        return links, joints
+
+    def _imu_link(self, sensor: str) -> yourdfpy.Link:
+        """A massless IMU link with a small box visual."""
+        return yourdfpy.Link(
+            name=f"imu_{sensor}",
+            inertial=_tiny_inertial(),
+            visuals=[
+                yourdfpy.Visual(
+                    name=f"imu_{sensor}_visual",
+                    origin=np.eye(4),
+                    geometry=yourdfpy.Geometry(box=yourdfpy.Box(np.array([0.04, 0.03, 0.015]))),
+                    material=_IMU_MATERIAL,
+                )
+            ],
+        )
+
+    def _imu_joint(self, sensor: str) -> yourdfpy.Joint:
+        """The fixed joint placing an IMU on its segment."""
+        return yourdfpy.Joint(
+            name=f"imu_{sensor}_joint",
+            type="fixed",
+            parent=SENSOR_SEGMENT[sensor],
+            child=f"imu_{sensor}",
+            origin=self.sensor_placements[sensor],
+        )
 
     def to_urdf_string(self) -> str:
         """URDF XML of this leg (yourdfpy writer)."""
@@ -310,6 +305,15 @@ def _unit(v: FloatArray) -> FloatArray:
     if n < 1e-12:
         raise InputError("the knee axis has zero length; give a unit vector pointing right")
     return np.asarray(v, dtype=float) / n
+
+
+_SEGMENT_MATERIAL = yourdfpy.Material(name="segment", color=yourdfpy.Color(np.array([0.7, 0.7, 0.75, 1.0])))
+_IMU_MATERIAL = yourdfpy.Material(name="imu", color=yourdfpy.Color(np.array([1.0, 0.5, 0.0, 1.0])))
+
+
+def _tiny_inertial() -> yourdfpy.Inertial:
+    """The inertial of a massless link (Pinocchio and MuJoCo want a positive mass)."""
+    return yourdfpy.Inertial(origin=np.eye(4), mass=_TINY_MASS, inertia=_TINY_INERTIA * np.eye(3))
 
 
 def _rx90() -> FloatArray:

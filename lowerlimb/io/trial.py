@@ -1,4 +1,4 @@
-"""``ImuTrial``: a four-IMU recording, read from and written to the DESIGN.md trial CSV.
+"""``ImuTrial``: a four-IMU recording, read from and written to the trial CSV (docs/formats.md).
 
 CSV format: a header row; ``time`` in s; then for each sensor in
 ``pelvis, thigh, shank, foot``: ``<sensor>_acc_{x,y,z}`` (m/s², specific
@@ -17,8 +17,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .conventions import GRAVITY_MPS2, SENSORS, FloatArray, check_side
-from .errors import (
+from ..conventions import GRAVITY_MPS2, MAX_GYRO_RAD_S, MIN_MEDIAN_ACC_MPS2, SENSORS, FloatArray, check_side
+from ..errors import (
     InputError,
     MissingColumnError,
     NonFiniteValueError,
@@ -26,17 +26,12 @@ from .errors import (
     TooShortError,
     UnitError,
 )
-from .stillness import initial_still_samples
+from ..stillness import StillPeriod, detect_still_period
 
 #: Lowest sampling rate accepted, Hz: below it the time column is taken to be in ms.
 MIN_RATE_HZ = 5.0
 #: Shortest trial accepted, s.
 MIN_DURATION_S = 2.0
-#: A gyro whose largest angular-rate norm exceeds this (rad/s ≈ 2000 °/s, the
-#: full scale of common IMUs) is taken to be in deg/s.
-GYRO_DEG_PER_S_THRESHOLD = 35.0
-#: An accelerometer whose median norm is below this (m/s²) is taken to be in g.
-ACC_G_THRESHOLD = 3.0
 #: Largest relative deviation of one time step from the median step.
 TIME_JITTER_TOLERANCE = 0.25
 
@@ -147,7 +142,7 @@ class ImuTrial:
             )
         for sensor in SENSORS:
             gmax = float(np.max(np.linalg.norm(self.gyr[sensor], axis=1)))
-            if gmax > GYRO_DEG_PER_S_THRESHOLD:
+            if gmax > MAX_GYRO_RAD_S:
                 raise UnitError(
                     f"{sensor}_gyr",
                     gmax,
@@ -155,7 +150,7 @@ class ImuTrial:
                     f"the trial format expects rad/s (multiply by π/180)",
                 )
             amed = float(np.median(np.linalg.norm(self.acc[sensor], axis=1)))
-            if amed < ACC_G_THRESHOLD:
+            if amed < MIN_MEDIAN_ACC_MPS2:
                 raise UnitError(
                     f"{sensor}_acc",
                     amed,
@@ -165,30 +160,39 @@ class ImuTrial:
         if self.duration_s < MIN_DURATION_S:
             raise TooShortError(self.duration_s, MIN_DURATION_S)
 
-    def standing_samples(self, duration_s: float = 1.0) -> int:
+    def still_period(self) -> StillPeriod:
+        """Detect the still run at the start of the recording, over every IMU.
+
+        The library's one still-period detector (:func:`lowerlimb.stillness.detect_still_period`);
+        :func:`lowerlimb.process_trial` calls it once and hands the result on.
+        """
+        return detect_still_period(
+            [self.gyr[s] for s in SENSORS], [self.acc[s] for s in SENSORS], self.rate_hz
+        )
+
+    def standing_samples(self, duration_s: float = 1.0, still: StillPeriod | None = None) -> int:
         """Number of samples at the start in which every IMU is still (0 if under ``duration_s``).
 
-        Uses the library's one still-period detector,
-        :func:`lowerlimb.stillness.initial_still_samples`.
+        Args:
+            duration_s: shortest accepted still period, s.
+            still: the trial's :meth:`still_period` when already detected.
         """
-        return initial_still_samples(
-            [self.gyr[s] for s in SENSORS],
-            [self.acc[s] for s in SENSORS],
-            self.rate_hz,
-            min_duration_s=duration_s,
-        )
+        return (still or self.still_period()).samples(duration_s)
 
     def has_standing_start(self, duration_s: float = 1.0) -> bool:
         """True when the recording starts with ≥ ``duration_s`` of every IMU still."""
         return self.standing_samples(duration_s) > 0
 
-    def reference_samples(self) -> slice:
+    def reference_samples(self, still: StillPeriod | None = None) -> slice:
         """Samples of the standing reference posture.
 
         The detected still period at the start; when there is none, the first
         second, with a one-time :class:`StandingStartWarning`.
+
+        Args:
+            still: the trial's :meth:`still_period` when already detected.
         """
-        n = self.standing_samples(1.0)
+        n = self.standing_samples(1.0, still)
         if n > 0:
             # keep clear of the gradual onset of motion
             n = max(int(round(0.8 * self.rate_hz)), n - int(round(0.15 * self.rate_hz)))

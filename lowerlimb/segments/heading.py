@@ -39,13 +39,17 @@ walking, so it decides only where the accelerations say nothing.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
 from scipy.signal import butter, sosfiltfilt
 
-from .constraints.angular_acceleration import angular_acceleration
-from .conventions import FloatArray, quat_multiply, quat_rotate
+from ..constraints.angular_acceleration import angular_acceleration
+from ..conventions import JOINT_SENSORS, FloatArray, quat_multiply, quat_rotate
+
+if TYPE_CHECKING:
+    from ..calibration import LegCalibration
 
 #: Share of the whole-trial mean blended into each local (kernel-mean) estimate.
 GLOBAL_PRIOR_WEIGHT = 0.1
@@ -127,7 +131,7 @@ def correct_headings(
     quat_wxyz: dict[str, FloatArray],
     acc: dict[str, FloatArray],
     gyr: dict[str, FloatArray],
-    calibration: dict[str, object],
+    calibration: LegCalibration,
     rate_hz: float,
     *,
     window_s: float = 4.0,
@@ -141,7 +145,7 @@ def correct_headings(
         quat_wxyz: ``{sensor: (N, 4)}`` filter orientations, sensor → (own) earth frame.
         acc: ``{sensor: (N, 3)}`` specific force, m/s².
         gyr: ``{sensor: (N, 3)}`` angular velocity with the bias removed, rad/s.
-        calibration: ``calibration.json`` dict (joint centres, knee axes).
+        calibration: the joint calibration (joint centres, knee axes).
         rate_hz: sampling rate, Hz.
         window_s: Gaussian kernel standard deviation, s.
         R_sensor_segment: segment frames in the sensor frames (from a first
@@ -154,8 +158,7 @@ def correct_headings(
     Returns:
         The corrected orientations and the corrections applied.
     """
-    joints = calibration["joints"]
-    assert isinstance(joints, dict)
+    joints = calibration.joints
     out = {"pelvis": np.asarray(quat_wxyz["pelvis"], dtype=float)}
     total = {"pelvis": np.zeros(len(out["pelvis"]))}
     per_joint: dict[str, FloatArray] = {}
@@ -165,19 +168,19 @@ def correct_headings(
         ("ankle", "shank", "foot"),
     ):
         j = joints[joint]
+        hinge = JOINT_SENSORS[joint][2] == "hinge"
         q_child = np.asarray(quat_wxyz[child], dtype=float)
-        if j.get("type") == "hinge":
-            u = quat_rotate(out[parent], np.asarray(j["axis_in_parent_sensor"], dtype=float))
-            v = quat_rotate(q_child, np.asarray(j["axis_in_child_sensor"], dtype=float))
+        if hinge:
+            knee = calibration.knee
+            u = quat_rotate(out[parent], knee.axis_in_parent_sensor)
+            v = quat_rotate(q_child, knee.axis_in_child_sensor)
         else:
             u = joint_acceleration_earth(
-                out[parent], acc[parent], gyr[parent], np.asarray(j["center_in_parent_sensor"]), rate_hz
+                out[parent], acc[parent], gyr[parent], j.center_in_parent_sensor, rate_hz
             )
-            v = joint_acceleration_earth(
-                q_child, acc[child], gyr[child], np.asarray(j["center_in_child_sensor"]), rate_hz
-            )
+            v = joint_acceleration_earth(q_child, acc[child], gyr[child], j.center_in_child_sensor, rate_hz)
         S, C = _heading_sums(u, v, rate_hz, window_s)
-        if R_sensor_segment is not None and j.get("type") != "hinge":
+        if R_sensor_segment is not None and not hinge:
             e_z = np.array([0.0, 0.0, 1.0])
             up = quat_rotate(out[parent], R_sensor_segment[parent] @ e_z)
             vp = quat_rotate(q_child, R_sensor_segment[child] @ e_z)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .conventions import JOINTS, FloatArray, joint_angles_from_matrix, quat_to_matrix
+from ..conventions import JOINTS, FloatArray, joint_angles_from_matrix, quat_to_matrix
 
 #: (proximal, distal) segment of each joint.
 JOINT_SEGMENT_PAIRS: dict[str, tuple[str, str]] = {
@@ -25,7 +25,7 @@ def compute_joint_angles(segment_quat_wxyz: dict[str, FloatArray], side: str) ->
     Returns:
         (N, 9): for hip, knee, ankle in turn: flexion (dorsiflexion),
         adduction (inversion), internal rotation, rad; clinical signs of
-        DESIGN.md. Each angle is unwrapped in time, so it is continuous.
+        docs/conventions.md. Each angle is unwrapped in time, so it is continuous.
     """
     R = {seg: quat_to_matrix(q) for seg, q in segment_quat_wxyz.items()}
     out = []

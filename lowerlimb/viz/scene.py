@@ -33,11 +33,11 @@ from typing import Any
 import numpy as np
 import umsgpack
 
-from .anthropometry import ankle_height_m
-from .conventions import SEGMENTS, SENSORS, FloatArray
-from .errors import ShapeError
-from .leg_geometry import JOINT_SEGMENTS, SENSOR_SEGMENT
-from .leg_model import DOF_NAMES, LegModel
+from ..conventions import SEGMENTS, SENSORS, FloatArray
+from ..errors import ShapeError
+from ..model.anthropometry import ankle_height_m
+from ..model.geometry import JOINT_SEGMENTS, SENSOR_SEGMENT
+from ..model.leg_model import DOF_NAMES, LegModel
 
 with warnings.catch_warnings():
     # meshcat imports its server module, which imports a module pyzmq deprecates

@@ -9,7 +9,7 @@ paper leaves them open):
   right) — the primary axis, so knee flexion is exactly about it; y = from the
   knee centre to the hip centre, made orthogonal to z; x = y × z (anterior).
   The knee centre's position along the axis does not change this frame.
-* **Pelvis, shank, foot**: DESIGN.md defines zero angles as the standing
+* **Pelvis, shank, foot**: docs/conventions.md defines zero angles as the standing
   reference posture, so at the reference every segment frame has the thigh
   frame's orientation in the earth frame. Each one is therefore the thigh frame
   at the reference, carried by its own sensor:
@@ -23,11 +23,15 @@ paper leaves them open):
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .conventions import SEGMENTS, FloatArray, quat_from_matrix, quat_to_matrix
-from .errors import InputError
+from ..conventions import SEGMENTS, FloatArray, quat_from_matrix, quat_to_matrix
+from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..calibration import LegCalibration
 
 
 @dataclass(frozen=True)
@@ -83,25 +87,21 @@ def thigh_frame_in_sensor(
 
 
 def segment_frames(
-    calibration: dict[str, object],
+    calibration: LegCalibration,
     reference_quat_wxyz: dict[str, FloatArray],
     side: str,
 ) -> SegmentFrames:
     """Segment frames of the four segments.
 
     Args:
-        calibration: the ``calibration.json`` dict (joint centres and knee axes in sensor frames).
+        calibration: the joint calibration (joint centres and knee axes in sensor frames).
         reference_quat_wxyz: ``{sensor: (4,)}`` sensor orientations (sensor → earth)
             averaged over the standing reference posture.
         side: ``"left"`` or ``"right"``.
     """
-    joints = calibration["joints"]
-    assert isinstance(joints, dict)
-    hip, knee = joints["hip"], joints["knee"]
+    hip, knee = calibration.hip, calibration.knee
     R_thigh = thigh_frame_in_sensor(
-        np.asarray(hip["center_in_child_sensor"]),
-        np.asarray(knee["center_in_parent_sensor"]),
-        np.asarray(knee["axis_in_parent_sensor"]),
+        hip.center_in_child_sensor, knee.center_in_parent_sensor, knee.axis_in_parent_sensor
     )
     R_earth_thigh_ref = quat_to_matrix(reference_quat_wxyz["thigh"]) @ R_thigh
     out = {"thigh": R_thigh}

@@ -1,4 +1,4 @@
-"""Writers and readers of the DESIGN.md output tables ``angles.csv`` and ``positions.csv``."""
+"""Writers and readers of the output tables (docs/formats.md) ``angles.csv`` and ``positions.csv``."""
 
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import os
 
 import numpy as np
 
-from .conventions import ANGLE_COLUMNS, POSITION_COLUMNS, FloatArray
-from .errors import InputError
+from ..conventions import ANGLE_COLUMNS, POSITION_COLUMNS, FloatArray
+from ..errors import InputError
 
 
 def write_angles_csv(path: str | os.PathLike[str], time_s: FloatArray, angles_rad: FloatArray) -> None:

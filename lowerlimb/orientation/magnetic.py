@@ -4,7 +4,7 @@ Indoors the magnetic field near the floor is bent by steel, force plates and
 treadmills; a 9-axis filter then turns each sensor's heading by a different,
 changing amount (the RING recordings show field strengths varying 2× and dip
 angles disagreeing by > 100° between sensors). The leg pipeline's kinematic
-heading consistency (:mod:`lowerlimb.heading`) works without a magnetometer,
+heading consistency (:mod:`lowerlimb.segments.heading`) works without a magnetometer,
 so a disturbed field is better ignored.
 
 The field is accepted when, for every sensor,
@@ -24,8 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .conventions import SENSORS
-from .trial import ImuTrial
+from ..conventions import SENSORS
+from ..io.trial import ImuTrial
 
 #: Largest accepted coefficient of variation of one sensor's field strength.
 MAX_STRENGTH_CV = 0.15

@@ -4,7 +4,7 @@ The page holds, with nothing fetched from the network:
 
 - the calibrated leg in 3-D (meshcat, animated over the trial with its play
   controls and time slider), in an ``<iframe srcdoc>`` carrying meshcat's
-  JavaScript inline (:mod:`lowerlimb.scene`);
+  JavaScript inline (:mod:`lowerlimb.viz.scene`);
 - the calibration table: joint centres in each sensor frame (mm, with their
   standard deviations when the calibration gives them), the knee axis in the
   thigh and shank sensor frames, RMS residuals and condition numbers;
@@ -28,10 +28,10 @@ from typing import Any
 
 import numpy as np
 
-from . import __version__
-from .conventions import ANGLE_COLUMNS, JOINTS, POSITION_COLUMNS, FloatArray
-from .errors import InputError, ShapeError
-from .leg_model import LegModel
+from .. import __version__
+from ..conventions import ANGLE_COLUMNS, JOINTS, POSITION_COLUMNS, FloatArray
+from ..errors import InputError, ShapeError
+from ..model.leg_model import LegModel
 from .scene import CommandRecorder, draw_leg, standalone_html
 
 #: Largest number of animation frames embedded in the report (keeps the file small).
@@ -65,7 +65,7 @@ def write_report(
         angles_rad: (N, 9) ISB joint angles, rad, angles.csv order.
         positions_m: (N, 6) pelvis→foot sensor and hip→ankle centre vectors in
             the pelvis sensor frame, m, positions.csv order.
-        calibration: the calibration.json document (DESIGN.md schema; the
+        calibration: the calibration.json document (docs/formats.md schema; the
             optional extras ``rms_residual_unit``, ``condition_number``,
             ``center_std_in_*_sensor``, ``axis_std_deg_in_*_sensor``,
             ``rms_residual_axis`` and ``warnings`` are shown when present).
@@ -84,7 +84,7 @@ def write_report(
     if not isinstance(joints, Mapping) or any(j not in joints for j in JOINTS):
         raise InputError(
             "the calibration has no 'joints' entry with hip, knee and ankle; "
-            "pass the calibration.json document (DESIGN.md schema)"
+            "pass the calibration.json document (docs/formats.md schema)"
         )
     page = render_report(
         model=model,

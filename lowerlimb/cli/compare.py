@@ -1,6 +1,6 @@
 """``lowerlimb compare DIR REFERENCE.csv --out DIR2 [--align-time] [--remove-offset]``.
 
-DESIGN.md, "Agreement with a reference". DIR is a ``calibrate`` output folder
+docs/formats.md, "Agreement with a reference". DIR is a ``calibrate`` output folder
 (``angles.csv`` in degrees, ``positions.csv`` in metres); REFERENCE.csv has
 ``time`` and any columns named as ours, in the same units. DIR2 gets
 ``agreement.csv``, ``agreement.json`` (the time offset applied and the method)
@@ -50,16 +50,16 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``lowerlimb compare``; returns the exit status (0). Bad input raises ``InputError``."""
-    from .agreement import compare_series, plot_bland_altman
-    from .agreement.files import (
+    from lowerlimb.agreement import compare_series, plot_bland_altman
+    from lowerlimb.agreement.files import (
         agreement_summary,
         read_calibrate_outputs,
         read_time_table,
         write_agreement_csv,
         write_agreement_json,
     )
-    from .cli import populate_directory
-    from .errors import InputError
+    from lowerlimb.errors import InputError
+    from lowerlimb.io.atomic import populate_directory
 
     out = Path(args.out)
     if out.exists():

@@ -1,6 +1,6 @@
 """``LegModel``: one leg as a Pinocchio model whose joint coordinates are the ISB angles.
 
-The model is built from a :class:`~lowerlimb.leg_geometry.LegGeometry` through
+The model is built from a :class:`~lowerlimb.model.geometry.LegGeometry` through
 its URDF, so what Pinocchio computes and what the exported URDF describes can
 never disagree. Sensor placements and joint origins are changed in place on the
 Pinocchio model; a new knee axis rebuilds it (a revolute joint's axis is part of
@@ -17,9 +17,9 @@ import os
 import numpy as np
 import pinocchio as pin
 
-from .conventions import JOINT_DOF_NAMES, JOINTS, SENSORS, FloatArray, quat_from_matrix
-from .errors import InputError
-from .leg_geometry import LegGeometry
+from ..conventions import JOINT_DOF_NAMES, JOINTS, SENSORS, FloatArray, quat_from_matrix
+from ..errors import InputError
+from .geometry import LegGeometry
 
 #: Names of the 9 revolute joints, in configuration order.
 DOF_NAMES: tuple[str, ...] = tuple(n for j in JOINTS for n in JOINT_DOF_NAMES[j])
@@ -135,12 +135,12 @@ class LegModel:
     # ------------------------------------------------------------ sensor-frame views
 
     def joint_center_in_sensor(self, joint: str, sensor: str) -> FloatArray:
-        """(3,) joint centre in a sensor frame (DESIGN.md convention: sensor origin → centre), m.
+        """(3,) joint centre in a sensor frame (docs/conventions.md: sensor origin → centre), m.
 
         ``sensor`` must be the joint's parent or child sensor; the child's value
         is the zero-posture one (exact for any posture at a hinge or spherical joint).
         """
-        from .leg_geometry import JOINT_SEGMENTS
+        from .geometry import JOINT_SEGMENTS
 
         parent, child = JOINT_SEGMENTS[joint]
         T_seg_sensor = self.geometry.sensor_placements[sensor]
@@ -166,9 +166,9 @@ class LegModel:
         return np.asarray(self.geometry.sensor_placements[sensor][:3, :3].T @ axis_seg)
 
     def calibration_dict(self, method: str = "truth") -> dict[str, object]:
-        """The model's joint parameters in the DESIGN.md ``calibration.json`` schema."""
+        """The model's joint parameters in the ``calibration.json`` schema (docs/formats.md)."""
         joints: dict[str, object] = {}
-        from .conventions import JOINT_SENSORS
+        from ..conventions import JOINT_SENSORS
 
         for joint in JOINTS:
             parent, child, kind = JOINT_SENSORS[joint]

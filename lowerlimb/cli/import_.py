@@ -1,4 +1,4 @@
-"""``lowerlimb import xsens|csv``: vendor recordings → the trial CSV (DESIGN.md).
+"""``lowerlimb import xsens|csv``: vendor recordings → the trial CSV (docs/formats.md).
 
 ::
 
@@ -18,7 +18,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from .errors import InputError
+from lowerlimb.errors import InputError
 
 
 def _map_argument(text: str) -> dict[str, str]:
@@ -82,9 +82,9 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``lowerlimb import``; return the exit status (errors are raised as InputError)."""
-    from .cli import write_atomically
-    from .io import ImportedRecording, load_mapped_csv, load_xsens
-    from .io.params import XSENS_MAG_FIELD_UT
+    from lowerlimb.io import ImportedRecording, load_mapped_csv, load_xsens
+    from lowerlimb.io.atomic import write_atomically
+    from lowerlimb.io.params import XSENS_MAG_FIELD_UT
 
     out = Path(args.out)
     if out.is_dir():

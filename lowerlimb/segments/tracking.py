@@ -1,10 +1,10 @@
 """From sensor orientations to segment motion: consistent headings, segment frames, ISB angles.
 
-The two passes (see :mod:`lowerlimb.heading`): the joint constraints make the
+The two passes (see :mod:`lowerlimb.segments.heading`): the joint constraints make the
 headings of adjacent sensors consistent; the segment frames are built at the
-standing reference (:mod:`lowerlimb.segment_frames`); a second heading pass adds
+standing reference (:mod:`lowerlimb.segments.frames`); a second heading pass adds
 the range-of-motion prior, which needs those frames; the frames are rebuilt and
-the Z-X-Y angles computed (:mod:`lowerlimb.joint_angles`).
+the Z-X-Y angles computed (:mod:`lowerlimb.segments.angles`).
 
 Observability (documented limitation): with 6-axis data, a sensor that
 neither rotates nor accelerates horizontally relative to its neighbour (a
@@ -16,13 +16,17 @@ few steps of walking in the trial removes the limitation.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .conventions import SENSORS, FloatArray
+from ..conventions import SENSORS, FloatArray
+from .angles import compute_joint_angles
+from .frames import SegmentFrames, mean_quaternion, segment_frames
 from .heading import HeadingCorrection, correct_headings
-from .joint_angles import compute_joint_angles
-from .segment_frames import SegmentFrames, mean_quaternion, segment_frames
+
+if TYPE_CHECKING:
+    from ..calibration import LegCalibration
 
 #: Weight (m/s²)² of the shared magnetic heading when orientations are 9-axis.
 MAG_HEADING_WEIGHT = 0.1
@@ -51,7 +55,7 @@ def track_segments(
     quat_wxyz: dict[str, FloatArray],
     acc: dict[str, FloatArray],
     gyr: dict[str, FloatArray],
-    calibration: dict[str, object],
+    calibration: LegCalibration,
     *,
     rate_hz: float,
     reference: slice,
@@ -66,7 +70,8 @@ def track_segments(
             arbitrary per sensor for 6-axis filters).
         acc: ``{sensor: (N, 3)}`` specific force, m/s².
         gyr: ``{sensor: (N, 3)}`` angular velocity with the bias removed, rad/s.
-        calibration: ``calibration.json`` dict.
+        calibration: the joint calibration (convert a simulator truth dict with
+            :meth:`LegCalibration.from_dict <lowerlimb.calibration.LegCalibration.from_dict>`).
         rate_hz: sampling rate, Hz.
         reference: samples of the standing reference posture.
         side: ``"left"`` or ``"right"``.

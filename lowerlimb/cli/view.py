@@ -1,0 +1,23 @@
+"""``lowerlimb view``: meshcat animation of a calibrated trial."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from lowerlimb.cli._common import EXIT_OK
+
+
+def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Register ``view`` and its options."""
+    p = subparsers.add_parser("view", help="meshcat animation of a calibrated trial")
+    p.add_argument("dir", type=Path, metavar="DIR", help="output directory of 'lowerlimb calibrate'")
+    p.add_argument("--open", action="store_true", help="also open the view in a web browser")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Serve the animated leg until Ctrl-C."""
+    from lowerlimb.viz.view import run_view
+
+    run_view(args.dir, open_browser=args.open)
+    return EXIT_OK
