@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from .calibration import LegCalibration
-from .calibration.options import check_method
+from .calibration.options import CalibrationOptions, check_method
 from .conventions import FloatArray
 from .errors import InputError
 from .io.atomic import check_new_directory, populate_directory
@@ -143,6 +143,8 @@ class CalibrateOptions:
         use_mag: fuse the magnetometer when the trial has one.
         calibration: an earlier ``calibration.json`` to reuse instead of calibrating.
         s2j: a fitted S2J model (``s2j.json``) instead of the constant vectors.
+        side_check: refuse a trial whose calibrated hip is on the other side.
+        order_check: refuse a trial whose sensor columns look swapped.
     """
 
     trial: Path
@@ -155,6 +157,8 @@ class CalibrateOptions:
     use_mag: bool = True
     calibration: Path | None = None
     s2j: Path | None = None
+    side_check: bool = True
+    order_check: bool = True
 
 
 def run_calibrate(options: CalibrateOptions) -> TrialResult:
@@ -190,6 +194,8 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
             s2j=s2j,
             calibration=previous,
             progress=True,
+            calibration_options=CalibrationOptions(check_sensor_order=options.order_check),
+            side_check=options.side_check,
         )
     _print_warnings(caught)
     write_result(result, out)

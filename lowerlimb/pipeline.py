@@ -26,11 +26,14 @@ from typing import Any
 import numpy as np
 
 from .calibration import LegCalibration, calibrate_leg
+from .calibration.options import CalibrationOptions
+from .calibration.plausibility import check_side
 from .conventions import SENSORS, FloatArray, quat_from_matrix
 from .errors import InputError
 from .io.trial import ImuTrial
 from .methods import ORIENTATION_FILTERS
 from .model.calibrated import calibrated_geometry, chain_positions
+from .model.fallback import with_plausible_lengths
 from .model.leg_model import LegModel
 from .orientation import estimate_orientation
 from .orientation.magnetic import check_magnetic_field
@@ -136,7 +139,11 @@ class Orientations:
 
 
 def calibrate_joints(
-    trial: ImuTrial, method: str, still: StillPeriod, previous: LegCalibration | None = None
+    trial: ImuTrial,
+    method: str,
+    still: StillPeriod,
+    previous: LegCalibration | None = None,
+    options: CalibrationOptions | None = None,
 ) -> LegCalibration:
     """Stage 1: calibrate the joints on this trial, or reuse ``previous`` with this trial's gyro bias.
 
@@ -145,12 +152,13 @@ def calibrate_joints(
         method: joint-constraint solver.
         still: the trial's still start (:meth:`ImuTrial.still_period`).
         previous: a calibration of the same sensor placements to reuse.
+        options: calibration options (defaults: :class:`CalibrationOptions`).
 
     Raises:
-        InputError: ``previous`` is of the other leg.
+        InputError: ``previous`` is of the other leg; swapped sensor columns.
     """
     if previous is None:
-        return calibrate_leg(trial, method=method, still=still)
+        return calibrate_leg(trial, method=method, options=options, still=still)
     if previous.side != trial.side:
         raise InputError(
             f"the calibration is of the {previous.side} leg but the trial is the {trial.side} "
@@ -242,6 +250,8 @@ def process_trial(
     s2j: S2JModel | None = None,
     calibration: LegCalibration | None = None,
     progress: bool = False,
+    calibration_options: CalibrationOptions | None = None,
+    side_check: bool = True,
 ) -> TrialResult:
     """Calibrate a trial and compute its joint angles and positions.
 
@@ -258,16 +268,27 @@ def process_trial(
             placements (e.g. from a walk or the "mixed" motion) instead of
             calibrating this trial; its gyro bias is re-measured on this trial.
         progress: print one line per stage on stderr.
+        calibration_options: joint-calibration options (e.g. ``check_sensor_order``).
+        side_check: refuse a trial whose calibrated hip lies on the other side of the
+            pelvis sensor (:func:`~lowerlimb.calibration.plausibility.check_side`); made
+            only when the trial starts standing (the pelvis frame's "right" comes from it).
 
     Raises:
-        InputError: a calibration of the other leg, or bad options.
+        InputError: a calibration of the other leg, swapped sensor columns
+            (``SensorOrderError``), the wrong side (``WrongSideError``), or bad options.
+
+    Warns:
+        CalibrationFallbackWarning: an implausible thigh or shank length was replaced
+            by the anthropometric template (:mod:`lowerlimb.model.fallback`).
     """
     clock = _Stopwatch(progress)
     still = trial.still_period()  # detected once, handed on
     reference = trial.reference_samples(still)
 
     clock.start()
-    calib = calibrate_joints(trial, method, still, calibration)
+    calib = calibrate_joints(trial, method, still, calibration, calibration_options)
+    up = {s: trial.acc[s][reference].mean(axis=0) for s in ("thigh", "shank")}
+    calib = with_plausible_lengths(calib, up, height_m=height_m)
     clock.stop("joint calibration")
 
     clock.start()
@@ -291,6 +312,10 @@ def process_trial(
     clock.start()
     model, positions, s2j_used = build_model(calib, motion, height_m=height_m, mass_kg=mass_kg, s2j=s2j)
     clock.stop("forward kinematics")
+    if side_check and trial.standing_samples(1.0, still) > 0:
+        # the pelvis frame's "right" comes from the standing reference: without one, no verdict
+        g = model.geometry
+        check_side(trial.side, g.joint_origins["hip"][:3, 3] - g.sensor_placements["pelvis"][:3, 3])
     return TrialResult(
         trial,
         calib,

@@ -52,6 +52,17 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         help="fitted time-varying segment-to-joint model (Lee & Lee 2022 M2/M3) for these sensor "
         "placements; default: constant vectors from this calibration",
     )
+    p.add_argument(
+        "--no-side-check",
+        action="store_true",
+        help="do not refuse a trial whose calibrated hip lies on the other side of the pelvis sensor "
+        "(for a pelvis sensor that is not on the sacrum)",
+    )
+    p.add_argument(
+        "--no-order-check",
+        action="store_true",
+        help="do not refuse a trial whose thigh/shank or shank/foot columns look swapped",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -70,6 +81,8 @@ def run(args: argparse.Namespace) -> int:
             use_mag=not args.no_mag,
             calibration=args.calibration,
             s2j=args.s2j,
+            side_check=not args.no_side_check,
+            order_check=not args.no_order_check,
         )
     )
     return EXIT_OK
