@@ -279,9 +279,9 @@ def compute_gait_parameters(
     thr = np.deg2rad(p.turn_heading_deg)
     turning: dict[str, list[bool]] = {}
     heading: dict[str, list[float]] = {}
-    for side, c in contacts.items():
+    for side, cc in contacts.items():
         h = [
-            heading_change_rad(c.R_earth_sensor[k], c.R_earth_sensor[k + 1]) for k in range(len(c.time_s) - 1)
+            heading_change_rad(cc.R_earth_sensor[k], cc.R_earth_sensor[k + 1]) for k in range(len(cc.time_s) - 1)
         ]
         heading[side] = h
         turning[side] = [bool(abs(x) > thr) if np.isfinite(x) else False for x in h]

@@ -54,7 +54,7 @@ class FootTrajectory:
     drift_mps: FloatArray
 
     def point_m(self, offset_in_sensor_m: ArrayLike) -> FloatArray:
-        """(N, 3) earth-frame trajectory of a point fixed in the sensor frame at ``offset_in_sensor_m`` (m)."""
+        """(N, 3) earth-frame trajectory of the point ``offset_in_sensor_m`` (sensor frame, m)."""
         r = np.broadcast_to(np.asarray(offset_in_sensor_m, dtype=float), self.position_m.shape)
         return self.position_m + quat_rotate(self.quat_wxyz, r)
 
