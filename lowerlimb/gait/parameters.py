@@ -280,9 +280,8 @@ def compute_gait_parameters(
     turning: dict[str, list[bool]] = {}
     heading: dict[str, list[float]] = {}
     for side, cc in contacts.items():
-        h = [
-            heading_change_rad(cc.R_earth_sensor[k], cc.R_earth_sensor[k + 1]) for k in range(len(cc.time_s) - 1)
-        ]
+        R = cc.R_earth_sensor
+        h = [heading_change_rad(R[k], R[k + 1]) for k in range(len(cc.time_s) - 1)]
         heading[side] = h
         turning[side] = [bool(abs(x) > thr) if np.isfinite(x) else False for x in h]
     strides: list[Stride] = []
