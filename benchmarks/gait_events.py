@@ -141,7 +141,9 @@ def stationary_scores(mask: np.ndarray, flags: np.ndarray) -> dict[str, float]:
     on_m, off_m = edges(m)
 
     def near(ref: np.ndarray, est: np.ndarray) -> np.ndarray:
-        return np.array([est[np.argmin(np.abs(est - r))] - r for r in ref]) * 10.0 if est.size else np.array([])
+        return (
+            np.array([est[np.argmin(np.abs(est - r))] - r for r in ref]) * 10.0 if est.size else np.array([])
+        )
 
     on_e, off_e = near(on_f, on_m), near(off_f, off_m)
     return {
@@ -189,21 +191,25 @@ def vicon_strides(vicon: dict, ev: dict[str, dict[str, np.ndarray]], straight: n
 
 
 def vicon_anchor(vicon: dict, ev: dict[str, dict[str, np.ndarray]]) -> FootAnchor:
-    """Right minus left ankle centre at the standing frame, in walking coordinates of the first left stride."""
+    """Right minus left ankle centre at the standing frame, walking coordinates of the first left stride."""
     L, R = vicon["LAJC"][:, :2] / 1000.0, vicon["RAJC"][:, :2] / 1000.0
     ic = ev["left"]["initial_contact"]
     ic = ic[ic > STAND_FRAME]
     u = L[ic[1]] - L[ic[0]]
     u /= np.linalg.norm(u)
     d = R[STAND_FRAME] - L[STAND_FRAME]
-    return FootAnchor(time_s=STAND_FRAME / RATE, forward_m=float(d @ u), left_m=float(-u[1] * d[0] + u[0] * d[1]))
+    return FootAnchor(
+        time_s=STAND_FRAME / RATE, forward_m=float(d @ u), left_m=float(-u[1] * d[0] + u[0] * d[1])
+    )
 
 
 def run(data: Path) -> dict:
     folder = data / "gait"
     imu = {k: read_xsens_txt(folder / "rawimu" / f"S02-Trial-Walk-1-000_{v}.txt") for k, v in IDS.items()}
     vicon = sio.loadmat(str(folder / "vicon" / "S02-Trial-Walk-1.mat"))
-    flags = np.loadtxt(folder / "step-detect" / "S02-Trial-Walk-1-revStepDetect.csv", delimiter=",", skiprows=1)
+    flags = np.loadtxt(
+        folder / "step-detect" / "S02-Trial-Walk-1-revStepDetect.csv", delimiter=",", skiprows=1
+    )
     params = GaitParams()
     events = detect_gait_events(
         RATE,
@@ -238,7 +244,9 @@ def run(data: Path) -> dict:
         assert se.stationary is not None
         res["stationary"][side] = stationary_scores(se.stationary.mask, flags[:, 0 if side == "left" else 1])
     trajs = {
-        side: integrate_foot(imu[f"{side}_foot"][1], imu[f"{side}_foot"][0], RATE, se.stationary, params=params)
+        side: integrate_foot(
+            imu[f"{side}_foot"][1], imu[f"{side}_foot"][0], RATE, se.stationary, params=params
+        )
         for side, se in (("left", events.left), ("right", events.right))
         if se is not None and se.stationary is not None
     }
@@ -282,18 +290,29 @@ def run(data: Path) -> dict:
         "n_straight_strides": len(st),
         "n_turn_strides_imu": len(gp.select(turning=True)),
         "turn_strides_vicon": sum(not v["straight"] for v in vs),
-        "stride_length_err_pct": {"median_abs": float(np.median(np.abs(sl))), "worst_abs": float(np.max(np.abs(sl))),
-                                  "bias": float(sl.mean())},
-        "step_length_err_mm": {"median_abs": float(np.median(np.abs(sle))), "worst_abs": float(np.max(np.abs(sle))),
-                               "bias": float(sle.mean())},
-        "step_width_err_mm": {"median_abs": float(np.median(np.abs(sw))), "worst_abs": float(np.max(np.abs(sw))),
-                              "bias": float(sw.mean())},
+        "stride_length_err_pct": {
+            "median_abs": float(np.median(np.abs(sl))),
+            "worst_abs": float(np.max(np.abs(sl))),
+            "bias": float(sl.mean()),
+        },
+        "step_length_err_mm": {
+            "median_abs": float(np.median(np.abs(sle))),
+            "worst_abs": float(np.max(np.abs(sle))),
+            "bias": float(sle.mean()),
+        },
+        "step_width_err_mm": {
+            "median_abs": float(np.median(np.abs(sw))),
+            "worst_abs": float(np.max(np.abs(sw))),
+            "bias": float(sw.mean()),
+        },
         "speed_err_m_s": {"median_abs": float(np.median(np.abs(sp))), "bias": float(sp.mean())},
         "cadence_imu": summary["cadence_steps_per_min"],
         "cadence_vicon": 120.0 / float(np.mean([v["stride_time_s"] for v in vs if v["straight"]])),
         "cadence_imu_from_strides": 120.0 / float(np.mean([s.stride_time_s for s in gp.select()])),
         "speed_imu_m_s": summary["gait_speed_m_s"],
-        "speed_vicon_m_s": float(np.mean([v["stride_length_m"] / v["stride_time_s"] for v in vs if v["straight"]])),
+        "speed_vicon_m_s": float(
+            np.mean([v["stride_length_m"] / v["stride_time_s"] for v in vs if v["straight"]])
+        ),
         "relative_heading_deg": gp.relative_heading_deg,
         "zupt_drift_mps": {side: float(np.median(t.drift_mps)) for side, t in trajs.items()},
     }
@@ -303,50 +322,92 @@ def run(data: Path) -> dict:
 
 def markdown(res: dict) -> str:
     L = ["# Gait events and parameters on the real walk (gait/, S02 Walk-1)", ""]
-    L += [f"Goals: events median ≤ {GOALS['event_median_ms']:.0f} ms, worst ≤ {GOALS['event_worst_ms']:.0f} ms "
-          f"(straight walking, vs Zeni marker events); stride length ≤ {GOALS['stride_length_pct']:.0f} %, "
-          f"step width ≤ {GOALS['step_width_mm']:.0f} mm vs Vicon ankle centres.", ""]
-    L += ["## (a) Events vs marker events (IMU − marker)", "",
-          "| event | part | n | missed | bias ms | median abs ms | worst abs ms |", "|---|---|---|---|---|---|---|"]
+    L += [
+        f"Goals: events median ≤ {GOALS['event_median_ms']:.0f} ms, worst ≤ {GOALS['event_worst_ms']:.0f} ms "
+        f"(straight walking, vs Zeni marker events); stride length ≤ {GOALS['stride_length_pct']:.0f} %, "
+        f"step width ≤ {GOALS['step_width_mm']:.0f} mm vs Vicon ankle centres.",
+        "",
+    ]
+    L += [
+        "## (a) Events vs marker events (IMU − marker)",
+        "",
+        "| event | part | n | missed | bias ms | median abs ms | worst abs ms |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for k, v in res["events"].items():
         for part in ("straight", "turn"):
             if part not in v:
                 continue
             s = v[part]
             if s.get("n"):
-                L.append(f"| {k} | {part} | {s['n']} | {s['missed']} | {s['bias_ms']:+.0f} | "
-                         f"{s['median_abs_ms']:.0f} | {s['worst_abs_ms']:.0f} |")
+                L.append(
+                    f"| {k} | {part} | {s['n']} | {s['missed']} | {s['bias_ms']:+.0f} | "
+                    f"{s['median_abs_ms']:.0f} | {s['worst_abs_ms']:.0f} |"
+                )
             else:
                 L.append(f"| {k} | {part} | 0 | {s['missed']} | – | – | – |")
-    L += ["", "## (b) Foot-stationary periods vs step-detect flags (walking window)", "",
-          "| side | agreement % | onset median ms | onset worst ms | offset median ms | offset worst ms "
-          "| periods flags/detected |", "|---|---|---|---|---|---|---|"]
+    L += [
+        "",
+        "## (b) Foot-stationary periods vs step-detect flags (walking window)",
+        "",
+        "| side | agreement % | onset median ms | onset worst ms | offset median ms | offset worst ms "
+        "| periods flags/detected |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for side, s in res["stationary"].items():
-        L.append(f"| {side} | {s['agreement_pct']:.1f} | {s['onset_median_ms']:+.0f} | {s['onset_worst_ms']:.0f} | "
-                 f"{s['offset_median_ms']:+.0f} | {s['offset_worst_ms']:.0f} | "
-                 f"{s['n_periods_flags']}/{s['n_periods_detected']} |")
+        L.append(
+            f"| {side} | {s['agreement_pct']:.1f} | {s['onset_median_ms']:+.0f} | "
+            f"{s['onset_worst_ms']:.0f} | "
+            f"{s['offset_median_ms']:+.0f} | {s['offset_worst_ms']:.0f} | "
+            f"{s['n_periods_flags']}/{s['n_periods_detected']} |"
+        )
     sp = res["spatial"]
-    L += ["", "## (c) Spatial parameters vs Vicon ankle centres (straight strides)", "",
-          "| quantity | median abs err | worst abs err | bias |", "|---|---|---|---|"]
-    for key, unit in (("stride_length_err_pct", "%"), ("step_length_err_mm", "mm"), ("step_width_err_mm", "mm")):
+    L += [
+        "",
+        "## (c) Spatial parameters vs Vicon ankle centres (straight strides)",
+        "",
+        "| quantity | median abs err | worst abs err | bias |",
+        "|---|---|---|---|",
+    ]
+    for key, unit in (
+        ("stride_length_err_pct", "%"),
+        ("step_length_err_mm", "mm"),
+        ("step_width_err_mm", "mm"),
+    ):
         e = sp[key]
-        L.append(f"| {key.replace('_err_' + unit.replace('%', 'pct'), '')} | {e['median_abs']:.1f} {unit} | "
-                 f"{e['worst_abs']:.1f} {unit} | {e['bias']:+.1f} {unit} |")
-    L += ["", f"Cadence: IMU {sp['cadence_imu']:.1f} (60/step time; 120/stride time: "
-          f"{sp['cadence_imu_from_strides']:.1f}), Vicon {sp['cadence_vicon']:.1f} steps/min (120/stride time). "
-          f"Speed: IMU {sp['speed_imu_m_s']:.3f}, Vicon {sp['speed_vicon_m_s']:.3f} m/s "
-          f"(per-stride median abs error {sp['speed_err_m_s']['median_abs']:.3f} m/s). "
-          f"Straight strides scored: {sp['n_straight_strides']}; IMU turning strides: {sp['n_turn_strides_imu']} "
-          f"(Vicon strides touching the turn: {sp['turn_strides_vicon']}). Right-to-left heading alignment "
-          f"{sp['relative_heading_deg']:.1f} deg; median ZUPT velocity drift per swing "
-          + ", ".join(f"{k} {v:.3f} m/s" for k, v in sp["zupt_drift_mps"].items()) + ".", ""]
-    L += ["## Strides", "", "| side | start s | turning (IMU) | straight (Vicon) | stride IMU/Vicon m | step length "
-          "IMU/Vicon m | step width IMU/Vicon m | heading change deg |", "|---|---|---|---|---|---|---|---|"]
+        L.append(
+            f"| {key.replace('_err_' + unit.replace('%', 'pct'), '')} | {e['median_abs']:.1f} {unit} | "
+            f"{e['worst_abs']:.1f} {unit} | {e['bias']:+.1f} {unit} |"
+        )
+    L += [
+        "",
+        f"Cadence: IMU {sp['cadence_imu']:.1f} (60/step time; 120/stride time: "
+        f"{sp['cadence_imu_from_strides']:.1f}), Vicon {sp['cadence_vicon']:.1f} steps/min "
+        f"(120/stride time). "
+        f"Speed: IMU {sp['speed_imu_m_s']:.3f}, Vicon {sp['speed_vicon_m_s']:.3f} m/s "
+        f"(per-stride median abs error {sp['speed_err_m_s']['median_abs']:.3f} m/s). "
+        f"Straight strides scored: {sp['n_straight_strides']}; "
+        f"IMU turning strides: {sp['n_turn_strides_imu']} "
+        f"(Vicon strides touching the turn: {sp['turn_strides_vicon']}). Right-to-left heading alignment "
+        f"{sp['relative_heading_deg']:.1f} deg; median ZUPT velocity drift per swing "
+        + ", ".join(f"{k} {v:.3f} m/s" for k, v in sp["zupt_drift_mps"].items())
+        + ".",
+        "",
+    ]
+    L += [
+        "## Strides",
+        "",
+        "| side | start s | turning (IMU) | straight (Vicon) | stride IMU/Vicon m | step length "
+        "IMU/Vicon m | step width IMU/Vicon m | heading change deg |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for r in res["strides"]:
-        L.append(f"| {r['side']} | {r['start_s']:.2f} | {r['imu_turning']} | {r['vicon_straight']} | "
-                 f"{r['stride_length_imu_m']:.3f}/{r['stride_length_vicon_m']:.3f} | "
-                 f"{r['step_length_imu_m']:.3f}/{r['step_length_vicon_m']:.3f} | "
-                 f"{r['step_width_imu_m']:.3f}/{r['step_width_vicon_m']:.3f} | {r['heading_change_deg']:.1f} |")
+        L.append(
+            f"| {r['side']} | {r['start_s']:.2f} | {r['imu_turning']} | {r['vicon_straight']} | "
+            f"{r['stride_length_imu_m']:.3f}/{r['stride_length_vicon_m']:.3f} | "
+            f"{r['step_length_imu_m']:.3f}/{r['step_length_vicon_m']:.3f} | "
+            f"{r['step_width_imu_m']:.3f}/{r['step_width_vicon_m']:.3f} | {r['heading_change_deg']:.1f} |"
+        )
     return "\n".join(L) + "\n"
 
 

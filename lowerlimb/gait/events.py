@@ -199,10 +199,20 @@ def detect_gait_events(
     left = right = None
     if left_shank_gyr is not None:
         left = detect_side_events(
-            left_shank_gyr, rate_hz, "left", foot_gyr=left_foot_gyr, foot_acc=left_foot_acc, **kw  # type: ignore[arg-type]
+            left_shank_gyr,
+            rate_hz,
+            "left",
+            foot_gyr=left_foot_gyr,
+            foot_acc=left_foot_acc,
+            **kw,  # type: ignore[arg-type]
         )
     if right_shank_gyr is not None:
         right = detect_side_events(
-            right_shank_gyr, rate_hz, "right", foot_gyr=right_foot_gyr, foot_acc=right_foot_acc, **kw  # type: ignore[arg-type]
+            right_shank_gyr,
+            rate_hz,
+            "right",
+            foot_gyr=right_foot_gyr,
+            foot_acc=right_foot_acc,
+            **kw,  # type: ignore[arg-type]
         )
     return GaitEvents(left=left, right=right)
