@@ -1,0 +1,43 @@
+"""Gait events, foot trajectories and spatio-temporal parameters from leg IMUs (DESIGN.md, two legs).
+
+Stages: :func:`detect_gait_events` (shank gyro → initial contact / toe-off; foot IMU →
+stationary periods) → :func:`integrate_foot` (strapdown + zero-velocity updates) →
+:func:`compute_gait_parameters` → :func:`write_events_csv`, :func:`write_gait_json`.
+Every threshold is in :class:`GaitParams`.
+"""
+
+from lowerlimb.gait.contacts import Contacts, foot_contacts, heading_change_rad
+from lowerlimb.gait.errors import GaitSignalError, NoGaitCyclesError
+from lowerlimb.gait.events import GaitEvents, SideEvents, detect_gait_events, detect_side_events
+from lowerlimb.gait.parameters import FootAnchor, GaitParameters, Stride, compute_gait_parameters
+from lowerlimb.gait.params import GaitParams
+from lowerlimb.gait.sagittal import SagittalRate, sagittal_rate
+from lowerlimb.gait.stationary import StationaryPeriods, detect_stationary
+from lowerlimb.gait.trajectory import FootTrajectory, integrate_foot
+from lowerlimb.gait.writers import EVENTS_COLUMNS, write_events_csv, write_gait_json
+
+__all__ = [
+    "EVENTS_COLUMNS",
+    "Contacts",
+    "FootAnchor",
+    "FootTrajectory",
+    "GaitEvents",
+    "GaitParameters",
+    "GaitParams",
+    "GaitSignalError",
+    "NoGaitCyclesError",
+    "SagittalRate",
+    "SideEvents",
+    "Stride",
+    "StationaryPeriods",
+    "compute_gait_parameters",
+    "detect_gait_events",
+    "detect_side_events",
+    "detect_stationary",
+    "foot_contacts",
+    "heading_change_rad",
+    "integrate_foot",
+    "sagittal_rate",
+    "write_events_csv",
+    "write_gait_json",
+]

@@ -1,0 +1,218 @@
+"""Initial contact and toe-off from the shank gyro; foot-stationary periods from the foot IMU.
+
+Shank method of Salarian et al. 2004 ("Gait assessment in Parkinson's disease:
+toward an ambulatory system for long-term monitoring", IEEE TBME 51(8)),
+after Aminian et al. 2002 (J. Biomech. 35): on the sagittal shank angular
+velocity ω (mid-swing positive, :func:`~lowerlimb.gait.sagittal.sagittal_rate`)
+
+1. mid-swing (MS) = peaks of the strongly low-passed ω above
+   :attr:`GaitParams.midswing_min_rps`, at least :attr:`GaitParams.min_stride_time_s` apart;
+2. initial contact (IC) = the first local minimum of ω (low-passed at
+   :attr:`GaitParams.sagittal_lowpass_hz`) after MS, within
+   :attr:`GaitParams.ic_search_s` and before the next MS;
+3. toe-off (TO) = the deepest local minimum of ω before MS, within
+   :attr:`GaitParams.to_search_s` and after the previous MS.
+
+Both minima must lie below ``-event_min_rps``. Choices left open by the papers:
+the filters (zero-phase Butterworth instead of Aminian's wavelet), and sub-sample
+timing: each minimum is refined by a parabola through it and its two neighbours.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.signal import find_peaks
+
+from lowerlimb.conventions import FloatArray
+from lowerlimb.gait._signal import as_signal, lowpass
+from lowerlimb.gait.errors import NoGaitCyclesError
+from lowerlimb.gait.params import GaitParams, samples
+from lowerlimb.gait.sagittal import SagittalRate, sagittal_rate
+from lowerlimb.gait.stationary import StationaryPeriods, detect_stationary
+
+__all__ = ["GaitEvents", "SideEvents", "detect_gait_events", "detect_side_events"]
+
+
+@dataclass(frozen=True)
+class SideEvents:
+    """Gait events of one leg.
+
+    Attributes:
+        side: ``"left"`` or ``"right"``.
+        initial_contact_s: (K,) initial-contact times, s, increasing.
+        toe_off_s: (M,) toe-off times, s, increasing.
+        midswing_s: (J,) mid-swing peak times, s.
+        sagittal: The shank's sagittal rate and axis.
+        stationary: Foot-stationary periods (``None`` without a foot IMU).
+        start_time_s: Time of sample 0, s.
+    """
+
+    side: str
+    initial_contact_s: FloatArray
+    toe_off_s: FloatArray
+    midswing_s: FloatArray
+    sagittal: SagittalRate
+    stationary: StationaryPeriods | None = None
+    start_time_s: float = 0.0
+
+
+@dataclass(frozen=True)
+class GaitEvents:
+    """Gait events of both legs (either may be ``None`` for a single-leg trial)."""
+
+    left: SideEvents | None = None
+    right: SideEvents | None = None
+    extras: dict[str, object] = field(default_factory=dict)
+
+    def sides(self) -> list[SideEvents]:
+        """The legs present, left first."""
+        return [s for s in (self.left, self.right) if s is not None]
+
+    def table(self) -> list[tuple[float, str, str]]:
+        """All events as ``(time_s, side, event)`` rows sorted by time (DESIGN.md ``events.csv``)."""
+        rows = []
+        for s in self.sides():
+            rows += [(float(t), s.side, "initial_contact") for t in s.initial_contact_s]
+            rows += [(float(t), s.side, "toe_off") for t in s.toe_off_s]
+        return sorted(rows)
+
+
+def _local_minima(x: FloatArray, lo: int, hi: int, below: float) -> np.ndarray:
+    """Indices k in [lo, hi) with x[k-1] > x[k] <= x[k+1] and x[k] < below."""
+    lo, hi = max(lo, 1), min(hi, x.shape[0] - 1)
+    if hi <= lo:
+        return np.zeros(0, dtype=int)
+    k = np.arange(lo, hi)
+    ok = (x[k - 1] > x[k]) & (x[k] <= x[k + 1]) & (x[k] < below)
+    return k[ok]
+
+
+def _refine(x: FloatArray, k: int) -> float:
+    """Sub-sample position of the extremum at ``k`` (parabola through k-1, k, k+1)."""
+    if k <= 0 or k >= x.shape[0] - 1:
+        return float(k)
+    a, b, c = x[k - 1], x[k], x[k + 1]
+    den = a - 2.0 * b + c
+    return float(k) if abs(den) < 1e-12 else float(k + 0.5 * (a - c) / den)
+
+
+def detect_side_events(
+    shank_gyr: ArrayLike,
+    rate_hz: float,
+    side: str,
+    *,
+    foot_gyr: ArrayLike | None = None,
+    foot_acc: ArrayLike | None = None,
+    params: GaitParams | None = None,
+    start_time_s: float = 0.0,
+) -> SideEvents:
+    """Initial contacts, toe-offs and foot-stationary periods of one leg.
+
+    Args:
+        shank_gyr: (N, 3) shank angular velocity, sensor frame, rad/s.
+        rate_hz: Sampling rate, Hz.
+        side: ``"left"`` or ``"right"`` (a label; the method is the same for both).
+        foot_gyr: (N, 3) foot angular velocity, sensor frame, rad/s (optional).
+        foot_acc: (N, 3) foot specific force, sensor frame, m/s² (with ``foot_gyr``).
+        params: Thresholds (defaults: :class:`GaitParams`).
+        start_time_s: Time of sample 0, s.
+
+    Returns:
+        The leg's events; times are ``start_time_s + index / rate_hz``.
+
+    Raises:
+        GaitSignalError: A signal is not a finite (N, 3) array of the shank's length.
+        NoGaitCyclesError: No mid-swing peak (no walking in the shank signal).
+    """
+    p = params or GaitParams()
+    w = as_signal(shank_gyr, "shank_gyr")
+    sag = sagittal_rate(w, rate_hz, p)
+    om = lowpass(sag.omega_rps, p.sagittal_lowpass_hz, rate_hz)
+    om_ms = lowpass(sag.omega_rps, p.midswing_lowpass_hz, rate_hz)
+    ms, _ = find_peaks(om_ms, height=p.midswing_min_rps, distance=samples(p.min_stride_time_s, rate_hz))
+    if ms.size == 0:
+        raise NoGaitCyclesError(side, float(np.max(om_ms)), p.midswing_min_rps)
+    n_ic, n_to = samples(p.ic_search_s, rate_hz), samples(p.to_search_s, rate_hz)
+    half = samples(0.5 * p.max_stride_time_s, rate_hz)
+    ic, to = [], []
+    for j, m in enumerate(ms):
+        nxt = ms[j + 1] if j + 1 < ms.size else w.shape[0]
+        prv = ms[j - 1] if j > 0 else 0
+        cand = _local_minima(om, m + 1, min(m + 1 + n_ic, nxt, m + half), -p.event_min_rps)
+        if cand.size:
+            ic.append(_refine(om, int(cand[0])))
+        cand = _local_minima(om, max(m - n_to, prv + 1, m - half), m, -p.event_min_rps)
+        if cand.size:
+            to.append(_refine(om, int(cand[np.argmin(om[cand])])))
+    stationary = None
+    if foot_gyr is not None:
+        fg = as_signal(foot_gyr, "foot_gyr", w.shape[0])
+        fa = as_signal(foot_acc if foot_acc is not None else np.zeros((0, 3)), "foot_acc", w.shape[0])
+        stationary = detect_stationary(fg, fa, rate_hz, p)
+    return SideEvents(
+        side=side,
+        initial_contact_s=start_time_s + np.asarray(ic, dtype=float) / rate_hz,
+        toe_off_s=start_time_s + np.asarray(to, dtype=float) / rate_hz,
+        midswing_s=start_time_s + ms.astype(float) / rate_hz,
+        sagittal=sag,
+        stationary=stationary,
+        start_time_s=start_time_s,
+    )
+
+
+def detect_gait_events(
+    rate_hz: float,
+    *,
+    left_shank_gyr: ArrayLike | None = None,
+    right_shank_gyr: ArrayLike | None = None,
+    left_foot_gyr: ArrayLike | None = None,
+    left_foot_acc: ArrayLike | None = None,
+    right_foot_gyr: ArrayLike | None = None,
+    right_foot_acc: ArrayLike | None = None,
+    params: GaitParams | None = None,
+    start_time_s: float = 0.0,
+) -> GaitEvents:
+    """Gait events of both legs (:func:`detect_side_events` on each leg given).
+
+    Args:
+        rate_hz: Sampling rate, Hz.
+        left_shank_gyr: (N, 3) left shank gyro, sensor frame, rad/s.
+        right_shank_gyr: (N, 3) right shank gyro, sensor frame, rad/s.
+        left_foot_gyr: (N, 3) left foot gyro, rad/s (optional).
+        left_foot_acc: (N, 3) left foot specific force, m/s² (optional).
+        right_foot_gyr: (N, 3) right foot gyro, rad/s (optional).
+        right_foot_acc: (N, 3) right foot specific force, m/s² (optional).
+        params: Thresholds (defaults: :class:`GaitParams`).
+        start_time_s: Time of sample 0, s.
+
+    Returns:
+        Events of the legs whose shank gyro is given.
+
+    Raises:
+        GaitSignalError: A signal is malformed.
+        NoGaitCyclesError: A given shank shows no walking.
+    """
+    kw = {"params": params, "start_time_s": start_time_s}
+    left = right = None
+    if left_shank_gyr is not None:
+        left = detect_side_events(
+            left_shank_gyr,
+            rate_hz,
+            "left",
+            foot_gyr=left_foot_gyr,
+            foot_acc=left_foot_acc,
+            **kw,  # type: ignore[arg-type]
+        )
+    if right_shank_gyr is not None:
+        right = detect_side_events(
+            right_shank_gyr,
+            rate_hz,
+            "right",
+            foot_gyr=right_foot_gyr,
+            foot_acc=right_foot_acc,
+            **kw,  # type: ignore[arg-type]
+        )
+    return GaitEvents(left=left, right=right)

@@ -1,0 +1,339 @@
+"""Spatio-temporal gait parameters per stride and their summary (DESIGN.md ``gait.json``).
+
+Definitions (events from :mod:`lowerlimb.gait.events`, positions from
+:func:`~lowerlimb.gait.contacts.foot_contacts`; "other" = the opposite leg):
+
+- stride k of a leg: from its initial contact IC_k to IC_{k+1} (at most
+  :attr:`GaitParams.max_stride_time_s`); stride time T = IC_{k+1} − IC_k;
+- stance % = 100 (TO − IC_k)/T with TO the leg's first toe-off in the stride; swing % = 100 − stance %;
+- step time = IC_k − the other leg's last IC before it;
+- double support % = 100 (initial + terminal double support)/T: initial = the other leg's
+  first TO after IC_k minus IC_k; terminal = the leg's TO minus the other leg's last IC before it;
+- stride length = horizontal distance between the contact positions at IC_k and IC_{k+1};
+- step length and width at IC_k: with P, N the other leg's contact positions
+  before and after IC_k and u = (N − P)/‖N − P‖ (horizontal), step length = (p_k − P)·u
+  and step width = |u × (p_k − P)| (distance of p_k from the line through P and N);
+- cadence = 60 / mean step time (steps/min); gait speed = stride length / stride time.
+
+A stride is *turning* when the foot's heading (yaw of its resting orientation)
+changes by more than :attr:`GaitParams.turn_heading_deg` between its two contacts;
+turning strides are summarised apart from the straight ones. A step is straight
+when the other leg's stride P → N is.
+
+Step length and width need both feet in one horizontal frame. Each foot is
+integrated on its own, so (i) the right trajectory is rotated about the
+vertical onto the left one by the circular mean of the heading differences of
+simultaneous straight strides (both feet walk the same way), and (ii) the
+remaining translation is unobservable from foot IMUs alone: it comes from a
+:class:`FootAnchor` (e.g. from the calibrated chain, or a standing posture).
+Without an anchor, step length and step width are NaN (``null`` in JSON).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+from lowerlimb.conventions import FloatArray, rot_z
+from lowerlimb.gait.contacts import Contacts, foot_contacts, heading_change_rad
+from lowerlimb.gait.events import GaitEvents, SideEvents
+from lowerlimb.gait.params import GaitParams
+from lowerlimb.gait.trajectory import FootTrajectory
+
+__all__ = ["FootAnchor", "GaitParameters", "Stride", "compute_gait_parameters"]
+
+_SIDES = ("left", "right")
+
+
+@dataclass(frozen=True)
+class FootAnchor:
+    """Right-foot point minus left-foot point at one instant with both feet resting.
+
+    Attributes:
+        time_s: The instant, s.
+        forward_m: Component along the walking direction of the left foot's next straight stride, m.
+        left_m: Component along up × forward (to the walker's left), m; negative for a right
+            foot standing to the right of the left one.
+    """
+
+    time_s: float
+    forward_m: float
+    left_m: float
+
+
+@dataclass(frozen=True)
+class Stride:
+    """One stride of one leg (NaN where a quantity could not be formed); times s, lengths m."""
+
+    side: str
+    start_s: float
+    end_s: float
+    stride_time_s: float
+    step_time_s: float
+    stance_pct: float
+    swing_pct: float
+    double_support_pct: float
+    stride_length_m: float
+    step_length_m: float
+    step_width_m: float
+    heading_change_deg: float
+    turning: bool
+    step_turning: bool = False
+
+    @property
+    def speed_m_s(self) -> float:
+        """Stride length / stride time, m/s."""
+        return self.stride_length_m / self.stride_time_s
+
+
+@dataclass(frozen=True)
+class GaitParameters:
+    """Per-stride parameters of both legs and how the feet were put in one frame.
+
+    Attributes:
+        strides: Every stride found, both legs, in time order.
+        relative_heading_deg: Rotation about the vertical applied to the right foot's
+            trajectory to align it with the left one, deg (NaN when not formed).
+        anchored: Whether step length and width could be formed (a :class:`FootAnchor` was given).
+        params: The thresholds used.
+    """
+
+    strides: list[Stride]
+    relative_heading_deg: float
+    anchored: bool
+    params: GaitParams = field(default_factory=GaitParams)
+
+    def select(self, side: str | None = None, *, turning: bool = False) -> list[Stride]:
+        """Strides of one leg (or both) that are (not) turning."""
+        return [s for s in self.strides if (side is None or s.side == side) and s.turning == turning]
+
+    def summary(self, side: str | None, *, turning: bool = False) -> dict[str, Any]:
+        """Mean and SD (ddof 1) of every parameter over the selected strides."""
+        st = self.select(side, turning=turning)
+        steps = [s for s in self.strides if (side is None or s.side == side) and s.step_turning == turning]
+
+        def ms(vals: list[float]) -> dict[str, float]:
+            x = np.asarray([v for v in vals if np.isfinite(v)], dtype=float)
+            return {
+                "mean": float(x.mean()) if x.size else float("nan"),
+                "sd": float(x.std(ddof=1)) if x.size > 1 else float("nan"),
+                "n": int(x.size),
+            }
+
+        step_t = ms([s.step_time_s for s in steps])
+        return {
+            "n_strides": len(st),
+            "stride_time_s": ms([s.stride_time_s for s in st]),
+            "step_time_s": step_t,
+            "stance_pct": ms([s.stance_pct for s in st]),
+            "swing_pct": ms([s.swing_pct for s in st]),
+            "double_support_pct": ms([s.double_support_pct for s in st]),
+            "stride_length_m": ms([s.stride_length_m for s in st]),
+            "step_length_m": ms([s.step_length_m for s in steps]),
+            "step_width_m": ms([s.step_width_m for s in steps]),
+            "gait_speed_m_s": ms([s.speed_m_s for s in st]),
+            "cadence_steps_per_min": ms([60.0 / s.step_time_s for s in steps]),
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        """The DESIGN.md ``gait.json`` content (straight strides), with extra keys."""
+        both = self.summary(None)
+        out: dict[str, Any] = {
+            "cadence_steps_per_min": 60.0 / both["step_time_s"]["mean"],
+            "gait_speed_m_s": both["gait_speed_m_s"]["mean"],
+            "step_width_m": both["step_width_m"],
+        }
+        for side in _SIDES:
+            if any(s.side == side for s in self.strides):
+                out[side] = self.summary(side)
+        out["turning"] = {side: self.summary(side, turning=True) for side in _SIDES}
+        out["relative_heading_deg"] = self.relative_heading_deg
+        out["anchored"] = self.anchored
+        out["params"] = asdict(self.params)
+        return out
+
+
+def _between(t: FloatArray, lo: float, hi: float) -> FloatArray:
+    return t[(t > lo) & (t < hi)]
+
+
+def _temporal(ev: SideEvents, other: SideEvents | None, k: int, p: GaitParams) -> dict[str, float]:
+    ic = ev.initial_contact_s
+    t0, t1 = float(ic[k]), float(ic[k + 1])
+    T = t1 - t0
+    nan = float("nan")
+    out = {"stance_pct": nan, "swing_pct": nan, "step_time_s": nan, "double_support_pct": nan}
+    to = _between(ev.toe_off_s, t0, t1)
+    if to.size:
+        out["stance_pct"] = 100.0 * (to[0] - t0) / T
+        out["swing_pct"] = 100.0 - out["stance_pct"]
+    if other is None:
+        return out
+    prev_o = other.initial_contact_s[other.initial_contact_s < t0]
+    if prev_o.size and t0 - prev_o[-1] < T:
+        out["step_time_s"] = float(t0 - prev_o[-1])
+    to_o = _between(other.toe_off_s, t0, t1)
+    if to.size and to_o.size:
+        ic_o = _between(other.initial_contact_s, t0, float(to[0]))
+        if ic_o.size:
+            initial, terminal = to_o[0] - t0, to[0] - ic_o[-1]
+            if 0 < initial < p.max_ds_fraction * T and 0 < terminal < p.max_ds_fraction * T:
+                out["double_support_pct"] = 100.0 * (initial + terminal) / T
+    return out
+
+
+def _pair_yaw(cl: Contacts, evl: SideEvents, cr: Contacts, evr: SideEvents, p: GaitParams) -> float:
+    """Circular mean of left-minus-right stride directions over overlapping straight strides."""
+    thr = np.deg2rad(p.turn_heading_deg)
+
+    def straight(c: Contacts) -> list[tuple[float, float, FloatArray]]:
+        out = []
+        for k in range(len(c.time_s) - 1):
+            d = c.position_m[k + 1, :2] - c.position_m[k, :2]
+            dt = c.time_s[k + 1] - c.time_s[k]
+            if not np.all(np.isfinite(d)) or dt > p.max_stride_time_s:
+                continue
+            if abs(heading_change_rad(c.R_earth_sensor[k], c.R_earth_sensor[k + 1])) > thr:
+                continue
+            out.append((float(c.time_s[k]), float(c.time_s[k + 1]), d))
+        return out
+
+    sl, sr = straight(cl), straight(cr)
+    s = c = 0.0
+    for a0, a1, dr in sr:
+        ov = [min(a1, b1) - max(a0, b0) for b0, b1, _ in sl]
+        if not ov or max(ov) <= 0:
+            continue
+        dl = sl[int(np.argmax(ov))][2]
+        ang = np.arctan2(dl[1], dl[0]) - np.arctan2(dr[1], dr[0])
+        wgt = float(np.linalg.norm(dl) * np.linalg.norm(dr))
+        s, c = s + wgt * np.sin(ang), c + wgt * np.cos(ang)
+    return float(np.arctan2(s, c)) if (s or c) else float("nan")
+
+
+def _anchor_shift(
+    trl: FootTrajectory, cl: Contacts, pr: FloatArray, anchor: FootAnchor, offset: FloatArray
+) -> FloatArray:
+    """Horizontal translation putting the right foot where the anchor says, relative to the left."""
+    k = int(np.clip(round(anchor.time_s * trl.rate_hz), 0, trl.position_m.shape[0] - 1))
+    pl = trl.point_m(offset)[k]
+    after = np.flatnonzero(cl.time_s >= anchor.time_s)
+    j = int(after[0]) if after.size and after[0] + 1 < len(cl.time_s) else 0
+    u = cl.position_m[j + 1, :2] - cl.position_m[j, :2]
+    u = u / np.linalg.norm(u)
+    left = np.array([-u[1], u[0]])
+    target = pl[:2] + anchor.forward_m * u + anchor.left_m * left
+    shift = np.zeros(3)
+    shift[:2] = target - pr[k, :2]
+    return shift
+
+
+def compute_gait_parameters(
+    events: GaitEvents,
+    left: FootTrajectory | None = None,
+    right: FootTrajectory | None = None,
+    *,
+    anchor: FootAnchor | None = None,
+    params: GaitParams | None = None,
+) -> GaitParameters:
+    """Spatio-temporal parameters of every stride.
+
+    Args:
+        events: Gait events of one or both legs (event times with sample 0 at t = 0).
+        left: Left foot trajectory (for lengths and turn detection), or ``None``.
+        right: Right foot trajectory, or ``None``.
+        anchor: Right-minus-left foot offset at one instant, needed for step length/width.
+        params: Thresholds (``turn_heading_deg``, ``sensor_to_ankle_m``, ``max_stride_time_s``,
+            ``max_ds_fraction``; defaults: :class:`GaitParams`).
+
+    Returns:
+        The strides of both legs with temporal and, given trajectories, spatial parameters.
+    """
+    p = params or GaitParams()
+    offset = np.asarray(p.sensor_to_ankle_m, dtype=float)
+    evs = {"left": events.left, "right": events.right}
+    trajs = {"left": left, "right": right}
+    contacts: dict[str, Contacts] = {}
+    for side in _SIDES:
+        ev, tr = evs[side], trajs[side]
+        if ev is not None and tr is not None:
+            contacts[side] = foot_contacts(tr, ev.initial_contact_s, offset, 0.5 * p.max_stride_time_s)
+    yaw = float("nan")
+    anchored = False
+    if "left" in contacts and "right" in contacts and events.left and events.right and left and right:
+        yaw = _pair_yaw(contacts["left"], events.left, contacts["right"], events.right, p)
+        if np.isfinite(yaw) and anchor is not None:
+            Rz = rot_z(yaw)
+            cr = contacts["right"]
+            pr_all = right.point_m(offset) @ Rz.T
+            shift = _anchor_shift(left, contacts["left"], pr_all, anchor, offset)
+            contacts["right"] = Contacts(
+                time_s=cr.time_s,
+                position_m=cr.position_m @ Rz.T + shift,
+                R_earth_sensor=Rz @ cr.R_earth_sensor,
+                period=cr.period,
+            )
+            anchored = True
+    thr = np.deg2rad(p.turn_heading_deg)
+    turning: dict[str, list[bool]] = {}
+    heading: dict[str, list[float]] = {}
+    for side, cc in contacts.items():
+        R = cc.R_earth_sensor
+        h = [heading_change_rad(R[k], R[k + 1]) for k in range(len(cc.time_s) - 1)]
+        heading[side] = h
+        turning[side] = [bool(abs(x) > thr) if np.isfinite(x) else False for x in h]
+    strides: list[Stride] = []
+    nan = float("nan")
+    for side in _SIDES:
+        ev = evs[side]
+        if ev is None:
+            continue
+        oside = "right" if side == "left" else "left"
+        other = evs[oside]
+        c, co = contacts.get(side), contacts.get(oside)
+        ic = ev.initial_contact_s
+        for k in range(len(ic) - 1):
+            T = float(ic[k + 1] - ic[k])
+            if T > p.max_stride_time_s:
+                continue
+            tmp = _temporal(ev, other, k, p)
+            length = step_len = width = hdg = nan
+            turn = step_turn = False
+            if c is not None:
+                length = float(np.linalg.norm(c.position_m[k + 1, :2] - c.position_m[k, :2]))
+                hdg, turn = float(np.rad2deg(heading[side][k])), turning[side][k]
+            if anchored and c is not None and co is not None:
+                before = np.flatnonzero(co.time_s < ic[k])
+                if before.size and before[-1] + 1 < len(co.time_s):
+                    j = int(before[-1])
+                    P, N = co.position_m[j, :2], co.position_m[j + 1, :2]
+                    u = (N - P) / np.linalg.norm(N - P)
+                    d = c.position_m[k, :2] - P
+                    step_len = float(d @ u)
+                    width = float(abs(u[0] * d[1] - u[1] * d[0]))
+                    step_turn = turning[oside][j]
+            elif co is not None:
+                before = np.flatnonzero(co.time_s < ic[k])
+                if before.size and before[-1] < len(turning[oside]):
+                    step_turn = turning[oside][int(before[-1])]
+            strides.append(
+                Stride(
+                    side=side,
+                    start_s=float(ic[k]),
+                    end_s=float(ic[k + 1]),
+                    stride_time_s=T,
+                    stride_length_m=length,
+                    step_length_m=step_len,
+                    step_width_m=width,
+                    heading_change_deg=hdg,
+                    turning=turn,
+                    step_turning=step_turn or turn,
+                    **tmp,
+                )
+            )
+    strides.sort(key=lambda s: s.start_s)
+    return GaitParameters(
+        strides=strides, relative_heading_deg=float(np.rad2deg(yaw)), anchored=anchored, params=p
+    )

@@ -1,0 +1,81 @@
+"""Every threshold of gait-event detection, foot integration and gait parameters, in one place.
+
+Times are in seconds and rates in physical units, so the defaults hold at any
+sampling rate: a window of ``w`` seconds is ``max(1, round(w * rate_hz))``
+samples (:func:`samples`). Defaults follow the cited papers where they give a
+number and are stated as choices where they do not.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["GaitParams", "samples"]
+
+
+@dataclass(frozen=True)
+class GaitParams:
+    """Thresholds of :mod:`lowerlimb.gait`.
+
+    Attributes:
+        sagittal_lowpass_hz: Cut-off of the zero-phase 2nd-order Butterworth low-pass
+            applied to the sagittal shank angular velocity before minima are searched
+            (Aminian et al. 2002 remove content above ~ 15 Hz with a wavelet), Hz.
+        midswing_lowpass_hz: Cut-off of the stronger low-pass used only to find the
+            mid-swing peaks (one clean peak per stride), Hz.
+        midswing_min_rps: Smallest mid-swing peak; Salarian et al. 2004 use 50 deg/s, rad/s.
+        min_stride_time_s: Shortest time between two mid-swing peaks of one leg, s.
+        max_stride_time_s: Longest gait cycle; minima further than about half of it
+            from a mid-swing peak are not searched, s.
+        ic_search_s: Initial contact is the first local minimum of the sagittal rate
+            within this time after the mid-swing peak (Salarian 2004: the minimum
+            following mid-swing), s.
+        to_search_s: Toe-off is the deepest local minimum within this time before the
+            mid-swing peak (Salarian 2004: the minimum preceding mid-swing), s.
+        event_min_rps: An event minimum must lie below ``-event_min_rps``, rad/s.
+        walking_gyro_rps: A sample counts as walking for the principal-axis fit when
+            the smoothed shank gyro norm exceeds this, rad/s.
+        shoe_window_s: Window of the SHOE detector (Skog et al. 2010, eq. 8), s.
+        shoe_sigma_acc_mps2: Accelerometer noise scale sigma_a of SHOE (a model
+            parameter that also absorbs foot vibration during stance), m/s².
+        shoe_sigma_gyr_rps: Gyroscope noise scale sigma_w of SHOE, rad/s.
+        shoe_threshold: Detection threshold gamma of the SHOE statistic (dimensionless:
+            the statistic is a mean of squared, sigma-normalised residuals).
+        min_stationary_s: Stationary runs shorter than this are dropped, s.
+        merge_gap_s: Moving gaps shorter than this between stationary runs are closed, s.
+        gravity_mps2: Gravity magnitude; ``None`` measures it as the median specific-force
+            norm over the stationary samples, m/s².
+        turn_heading_deg: A stride whose foot heading changes by more than this between
+            its two contacts is a turning stride, deg.
+        sensor_to_ankle_m: Constant vector from the foot sensor to the ankle centre in
+            the foot sensor frame, m (zeros: gait geometry on the sensor positions).
+        max_ds_fraction: A double-support interval longer than this fraction of the
+            stride is treated as a detection failure and not used.
+    """
+
+    sagittal_lowpass_hz: float = 15.0
+    midswing_lowpass_hz: float = 3.0
+    midswing_min_rps: float = np.deg2rad(50.0)
+    min_stride_time_s: float = 0.6
+    max_stride_time_s: float = 2.5
+    ic_search_s: float = 0.6
+    to_search_s: float = 0.6
+    event_min_rps: float = np.deg2rad(10.0)
+    walking_gyro_rps: float = 1.0
+    shoe_window_s: float = 0.05
+    shoe_sigma_acc_mps2: float = 0.5
+    shoe_sigma_gyr_rps: float = np.deg2rad(20.0)
+    shoe_threshold: float = 1.0
+    min_stationary_s: float = 0.05
+    merge_gap_s: float = 0.03
+    gravity_mps2: float | None = None
+    turn_heading_deg: float = 20.0
+    sensor_to_ankle_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    max_ds_fraction: float = 0.4
+
+
+def samples(duration_s: float, rate_hz: float) -> int:
+    """A duration in samples at ``rate_hz``, at least one."""
+    return max(1, int(round(duration_s * rate_hz)))

@@ -1,0 +1,45 @@
+"""The gait benchmark on the real walk (gait/ in the shared data), with bounds ~2-3x the measured errors."""
+
+import importlib.util
+from pathlib import Path
+
+import pytest
+from simcache import data_dir
+
+DATA = data_dir()
+pytestmark = [
+    pytest.mark.data,
+    pytest.mark.skipif(DATA is None or not (DATA / "gait").is_dir(), reason="real-walk data absent"),
+]
+
+
+def _benchmark():
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "gait_events.py"
+    spec = importlib.util.spec_from_file_location("gait_events_benchmark", path)
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_real_walk_events_stationary_and_strides():
+    assert DATA is not None
+    res = _benchmark().run(DATA)
+    for side in ("left", "right"):
+        ic = res["events"][f"{side}_initial_contact"]["straight"]
+        to = res["events"][f"{side}_toe_off"]["straight"]
+        assert ic["n"] >= 4 and to["n"] >= 4
+        # vs Zeni marker events (measured ~60 ms IC lag, ~40 ms TO lead: the kinematic events differ)
+        assert ic["median_abs_ms"] < 150 and ic["worst_abs_ms"] < 200
+        assert to["median_abs_ms"] < 100 and to["worst_abs_ms"] < 150
+        # vs the heel marker coming to rest (measured median 5-12 ms)
+        assert res["events"][f"{side}_initial_contact_vs_heel_stop"]["straight"]["median_abs_ms"] < 30
+        st = res["stationary"][side]
+        assert st["agreement_pct"] > 80.0  # measured ~92-94 %
+        assert abs(st["onset_median_ms"]) < 150 and abs(st["offset_median_ms"]) < 100
+    sp = res["spatial"]
+    assert sp["n_straight_strides"] >= 5
+    assert sp["stride_length_err_pct"]["median_abs"] < 3.0  # measured ~1.2 %
+    assert sp["stride_length_err_pct"]["worst_abs"] < 10.0
+    assert abs(sp["cadence_imu_from_strides"] - sp["cadence_vicon"]) < 5.0
+    assert abs(sp["speed_imu_m_s"] - sp["speed_vicon_m_s"]) < 0.15
