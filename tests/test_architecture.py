@@ -28,7 +28,7 @@ LAYERS: list[set[str]] = [
     {"io"},
     {"orientation", "constraints"},
     {"calibration"},
-    {"segments", "s2j"},
+    {"segments", "s2j", "gait"},
     {"model"},
     {"simulation"},
     {"pipeline"},

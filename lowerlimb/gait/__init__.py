@@ -1,4 +1,4 @@
-"""Gait events, foot trajectories and spatio-temporal parameters from leg IMUs (DESIGN.md, two legs).
+"""Gait events, foot trajectories and spatio-temporal parameters from leg IMUs (docs/formats.md, "Two legs").
 
 Stages: :func:`detect_gait_events` (shank gyro → initial contact / toe-off; foot IMU →
 stationary periods) → :func:`integrate_foot` (strapdown + zero-velocity updates) →

@@ -72,7 +72,7 @@ class GaitEvents:
         return [s for s in (self.left, self.right) if s is not None]
 
     def table(self) -> list[tuple[float, str, str]]:
-        """All events as ``(time_s, side, event)`` rows sorted by time (DESIGN.md ``events.csv``)."""
+        """All events as ``(time_s, side, event)`` rows sorted by time (docs/formats.md, "Two legs")."""
         rows = []
         for s in self.sides():
             rows += [(float(t), s.side, "initial_contact") for t in s.initial_contact_s]

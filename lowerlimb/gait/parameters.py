@@ -1,4 +1,4 @@
-"""Spatio-temporal gait parameters per stride and their summary (DESIGN.md ``gait.json``).
+"""Spatio-temporal gait parameters per stride and their summary (docs/formats.md, "Two legs").
 
 Definitions (events from :mod:`lowerlimb.gait.events`, positions from
 :func:`~lowerlimb.gait.contacts.foot_contacts`; "other" = the opposite leg):
@@ -138,7 +138,7 @@ class GaitParameters:
         }
 
     def to_dict(self) -> dict[str, Any]:
-        """The DESIGN.md ``gait.json`` content (straight strides), with extra keys."""
+        """The docs/formats.md ``gait.json`` content (straight strides), with extra keys."""
         both = self.summary(None)
         out: dict[str, Any] = {
             "cadence_steps_per_min": 60.0 / both["step_time_s"]["mean"],

@@ -1,4 +1,4 @@
-"""Writers of the gait outputs of DESIGN.md: ``events.csv`` and ``gait.json``."""
+"""Writers of the gait outputs of docs/formats.md: ``events.csv`` and ``gait.json``."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from lowerlimb.gait.parameters import GaitParameters
 
 __all__ = ["EVENTS_COLUMNS", "write_events_csv", "write_gait_json"]
 
-#: Columns of ``events.csv`` (DESIGN.md, two legs); ``event`` is ``initial_contact`` or ``toe_off``.
+#: Columns of ``events.csv`` (docs/formats.md, "Two legs"); ``event`` is ``initial_contact`` or ``toe_off``.
 EVENTS_COLUMNS = ("time", "side", "event")
 
 
