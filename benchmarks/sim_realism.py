@@ -121,7 +121,10 @@ def sim_stats(sim: Simulation, n: int) -> dict[str, Any]:
     """Statistics of the simulated (measured) sensors on a window of n samples."""
     w = _window(sim, n)
     return {
-        segment: {"acc": signal_stats(sim.trial.acc[segment][w]), "gyr": signal_stats(sim.trial.gyr[segment][w])}
+        segment: {
+            "acc": signal_stats(sim.trial.acc[segment][w]),
+            "gyr": signal_stats(sim.trial.gyr[segment][w]),
+        }
         for segment in SEGMENTS
     }
 

@@ -82,6 +82,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="realistic: gyro 0.015 rad/s, acc 0.08 m/s², gyro bias 0.01 rad/s; none: ideal",
     )
     p.add_argument("--soft-tissue", action="store_true", help="let sensors slide with joint angles")
+    p.add_argument(
+        "--artefacts",
+        choices=("none", "real"),
+        default="none",
+        help="real: heel-strike impacts, wobbling tissue, skin motion, clock/scale errors (default: none)",
+    )
     p.add_argument("--no-mag", action="store_true", help="omit magnetometer columns")
 
     p = sub.add_parser("calibrate", help="calibrate a trial: sensor positions, knee axis, angles, URDF")
@@ -190,7 +196,7 @@ def populate_directory(out: Path, fill: Callable[[Path], None]) -> None:
 def cmd_simulate(args: argparse.Namespace) -> int:
     """``lowerlimb simulate``."""
     from .output import write_angles_csv, write_positions_csv
-    from .simulation import ImuNoise, simulate
+    from .simulation import Artefacts, ImuNoise, simulate
 
     noise = ImuNoise() if args.noise == "realistic" else ImuNoise.none()
     sim = simulate(
@@ -202,6 +208,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         noise=noise,
         soft_tissue=args.soft_tissue,
         with_mag=not args.no_mag,
+        artefacts=Artefacts.real_walk() if args.artefacts == "real" else None,
     )
     for target in [args.out] + ([args.truth] if args.truth else []):
         parent = Path(target).parent

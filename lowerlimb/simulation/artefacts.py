@@ -19,7 +19,7 @@ The model, per sensor (segment frame: x anterior, y along the bone, z right):
    per segment (``tissue_freq_hz``, ``tissue_damping``) excited by minus the
    bone's acceleration at the sensor (the rigid motion, without gravity, plus
    the impact mode), scaled by ``tissue_gain``. The tissue displacement also
-   rocks the sensor: rotation ``rock_rad_per_m · n × δ`` with ``n`` the skin
+   rocks the sensor: rotation ``rock_rad_per_m[segment] · n × δ`` with ``n`` the skin
    normal (the sensor's z axis).
 3. **Skin motion.** A displacement non-linear in the joint angles that
    deform the tissue under the sensor: ``Σ_j c_j θ_j²`` (quadratic) plus
@@ -66,7 +66,7 @@ class Artefacts:
         tissue_freq_hz: natural frequency of the wobbling mass under each sensor, Hz.
         tissue_damping: damping ratio of the wobbling mass.
         tissue_gain: fraction of the bone acceleration that excites the tissue.
-        rock_rad_per_m: sensor rotation per tissue/skin displacement, rad/m.
+        rock_rad_per_m: sensor rotation per tissue/skin displacement, per segment, rad/m.
         skin_quadratic_m_per_rad2: norm of the quadratic skin-motion
             coefficient per driving joint angle, m/rad².
         skin_saturating_m: norm of the saturating skin displacement per
@@ -92,7 +92,7 @@ class Artefacts:
     tissue_freq_hz: dict[str, float] = field(default_factory=lambda: _per_segment(10.0, 9.0, 12.0, 25.0))
     tissue_damping: dict[str, float] = field(default_factory=lambda: _per_segment(0.3, 0.25, 0.25, 0.4))
     tissue_gain: dict[str, float] = field(default_factory=lambda: _per_segment(0.0, 0.0, 0.0, 0.0))
-    rock_rad_per_m: float = 0.0
+    rock_rad_per_m: dict[str, float] = field(default_factory=lambda: _per_segment(0.0, 0.0, 0.0, 0.0))
     skin_quadratic_m_per_rad2: dict[str, float] = field(
         default_factory=lambda: _per_segment(0.0, 0.0, 0.0, 0.0)
     )
@@ -114,15 +114,15 @@ class Artefacts:
     def real_walk(cls, seed: int | None = None) -> Artefacts:
         """The profile tuned on the real walk (``benchmarks/results/sim_realism.md``)."""
         return cls(
-            impact_mps2=_per_segment(6.0, 14.0, 30.0, 60.0),
-            impact_contra_mps2=_per_segment(6.0, 2.0, 1.0, 0.5),
+            impact_mps2=_per_segment(17.0, 30.0, 50.0, 50.0),
+            impact_contra_mps2=_per_segment(17.0, 3.0, 1.0, 0.5),
             impact_pulse_s=0.03,
-            bone_freq_hz=_per_segment(12.0, 15.0, 18.0, 22.0),
-            bone_damping=0.3,
-            tissue_freq_hz=_per_segment(10.0, 8.0, 11.0, 20.0),
-            tissue_damping=_per_segment(0.3, 0.2, 0.2, 0.35),
-            tissue_gain=_per_segment(0.5, 1.0, 1.0, 0.5),
-            rock_rad_per_m=8.0,
+            bone_freq_hz=_per_segment(7.0, 8.0, 20.0, 20.0),
+            bone_damping=0.4,
+            tissue_freq_hz=_per_segment(7.0, 9.0, 12.0, 20.0),
+            tissue_damping=_per_segment(0.35, 0.25, 0.2, 0.35),
+            tissue_gain=_per_segment(1.0, 1.0, 1.0, 1.0),
+            rock_rad_per_m=_per_segment(10.0, 10.0, 10.0, 60.0),
             skin_quadratic_m_per_rad2=_per_segment(0.004, 0.008, 0.006, 0.002),
             skin_saturating_m=_per_segment(0.003, 0.008, 0.006, 0.002),
             skin_saturation_rad=0.5,

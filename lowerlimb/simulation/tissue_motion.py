@@ -184,7 +184,7 @@ def compute_tissue_motion(
         d_t, v_t, a_t = msd_response(u, rate_hz, params.tissue_freq_hz[sensor], params.tissue_damping[sensor])
         # the sensor rocks on the tissue: rotation about n × (shear displacement)
         n = skin_normal_seg[sensor]
-        k = params.rock_rad_per_m
+        k = params.rock_rad_per_m[sensor]
         dt_s, vt_s, at_s = d_t + d_s, v_t + v_s, a_t + a_s
         th, th_v, th_a = (k * np.cross(n, x) for x in (dt_s, vt_s, at_s))
         d = d_b + dt_s
