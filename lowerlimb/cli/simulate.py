@@ -39,6 +39,12 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         help="realistic: gyro 0.015 rad/s, acc 0.08 m/s², gyro bias 0.01 rad/s; none: ideal",
     )
     p.add_argument("--soft-tissue", action="store_true", help="let sensors slide with joint angles")
+    p.add_argument(
+        "--artefacts",
+        choices=("none", "real"),
+        default="none",
+        help="real: heel-strike impacts, wobbling tissue, skin motion, clock/scale errors (default: none)",
+    )
     p.add_argument("--no-mag", action="store_true", help="omit magnetometer columns")
 
 
@@ -46,7 +52,7 @@ def run(args: argparse.Namespace) -> int:
     """Simulate and write the trial CSV (and the truth files)."""
     from lowerlimb.io.atomic import write_atomically, write_text
     from lowerlimb.io.tables import write_angles_csv, write_positions_csv
-    from lowerlimb.simulation import ImuNoise, simulate
+    from lowerlimb.simulation import Artefacts, ImuNoise, simulate
 
     noise = ImuNoise() if args.noise == "realistic" else ImuNoise.none()
     sim = simulate(
@@ -58,6 +64,7 @@ def run(args: argparse.Namespace) -> int:
         noise=noise,
         soft_tissue=args.soft_tissue,
         with_mag=not args.no_mag,
+        artefacts=Artefacts.real_walk() if args.artefacts == "real" else None,
     )
     for target in [args.out] + ([args.truth] if args.truth else []):
         parent = Path(target).parent

@@ -11,11 +11,19 @@ from typing import TYPE_CHECKING, Any
 
 from .motions import MOTIONS
 
-__all__ = ["MOTIONS", "ImuNoise", "Simulation", "SoftTissue", "simulate"]
+__all__ = ["MOTIONS", "ArtefactTruth", "Artefacts", "ImuNoise", "Simulation", "SoftTissue", "simulate"]
 
-_EXPORTS = {"ImuNoise": "noise", "SoftTissue": "noise", "Simulation": "simulator", "simulate": "simulator"}
+_EXPORTS = {
+    "Artefacts": "artefacts",
+    "ArtefactTruth": "artefacts",
+    "ImuNoise": "noise",
+    "SoftTissue": "noise",
+    "Simulation": "simulator",
+    "simulate": "simulator",
+}
 
 if TYPE_CHECKING:
+    from .artefacts import Artefacts, ArtefactTruth
     from .noise import ImuNoise, SoftTissue
     from .simulator import Simulation, simulate
 

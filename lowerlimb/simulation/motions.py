@@ -37,12 +37,16 @@ class MotionKinematics:
         yaw_rad: (N,) heading about the earth's vertical, rad.
         pelvis_pos_m: (N, 3) pelvis origin in the ENU world, m; None to keep
             the ankle centre fixed.
+        gait_phase: (N,) unit gait phase of the instrumented leg for walks,
+            0 at its initial contact (heel strike), 0.5 at the other foot's; None
+            for motions without foot contacts.
     """
 
     angles_rad: FloatArray
     pelvis_euler_rad: FloatArray
     yaw_rad: FloatArray
     pelvis_pos_m: FloatArray | None
+    gait_phase: FloatArray | None = None
 
 
 def smoothstep(t: FloatArray, t0: float, duration: float) -> FloatArray:
@@ -82,7 +86,12 @@ def _out_of_plane(t: FloatArray, rng: np.random.Generator, scale: float = 1.0) -
 
 
 def walk(t: FloatArray, s: FloatArray, rng: np.random.Generator) -> MotionKinematics:
-    """Level walking at 1.0–1.4 m/s with slow changes of heading."""
+    """Level walking at 1.0–1.4 m/s with slow changes of heading.
+
+    The gait phase is 0 at the instrumented foot's initial contact: hip flexion
+    is at its maximum, the knee nearly straight before the loading-response
+    bump (phase 0.15), push-off at 0.62, peak swing knee flexion at 0.72.
+    """
     n = t.shape[0]
     stride_hz = rng.uniform(0.85, 1.0)
     phase = (stride_hz * t + rng.uniform()) % 1.0
@@ -122,7 +131,7 @@ def walk(t: FloatArray, s: FloatArray, rng: np.random.Generator) -> MotionKinema
     xy = np.cumsum(speed[:, None] * heading * dt[:, None], axis=0)
     xy += (rng.uniform(0.02, 0.03) * np.sin(2 * np.pi * phase) * s)[:, None] * left
     z = 0.95 + 0.02 * np.cos(4 * np.pi * phase) * s
-    return MotionKinematics(angles, pelvis, yaw, np.column_stack([xy, z]))
+    return MotionKinematics(angles, pelvis, yaw, np.column_stack([xy, z]), gait_phase=phase)
 
 
 def _cycle(t: FloatArray, period: float, hold: float) -> FloatArray:

@@ -34,9 +34,12 @@ from ..errors import InputError
 from ..io.trial import ImuTrial
 from ..model.geometry import LegGeometry
 from ..model.leg_model import DOF_NAMES, LegModel
+from .artefacts import Artefacts, ArtefactTruth
 from .motions import MOTION_FUNCTIONS, MOTIONS, smoothstep
 from .noise import ImuNoise, SoftTissue
 from .placements import random_placements
+from .sensor_errors import SensorErrors, draw_sensor_errors, resample_at
+from .tissue_motion import TissueMotion, compute_tissue_motion, contact_times, exp_so3, right_jacobian_so3
 
 #: Earth magnetic field in ENU, µT (50 µT, inclination 65° downwards, pointing north).
 MAG_FIELD_ENU_UT = 50.0 * np.array([0.0, np.cos(np.deg2rad(65.0)), -np.sin(np.deg2rad(65.0))])
@@ -70,6 +73,9 @@ class Simulation:
         model: the true :class:`LegModel` (free-flyer root).
         gyr_bias_rps: ``{sensor: (3,)}`` the constant gyro bias added, rad/s.
         sta_offsets_m: ``{sensor: (N, 3)}`` soft-tissue displacement in the segment frame, m.
+        artefacts: what the realism profile did (None without one); with it,
+            ``clean`` holds the non-rigid sensors' exact signals and ``trial``
+            adds the clock, scale and misalignment errors as well as noise.
     """
 
     trial: ImuTrial
@@ -83,6 +89,7 @@ class Simulation:
     gyr_bias_rps: dict[str, FloatArray]
     sta_offsets_m: dict[str, FloatArray] = field(default_factory=dict)
     runtime_s: float = 0.0
+    artefacts: ArtefactTruth | None = None
 
 
 def _root_joint() -> pin.JointModelComposite:
@@ -111,6 +118,7 @@ def simulate(
     mass_kg: float = 75.0,
     still_s: float = 1.5,
     geometry: LegGeometry | None = None,
+    artefacts: Artefacts | None = None,
 ) -> Simulation:
     """Simulate a four-IMU leg trial with known truth.
 
@@ -128,6 +136,10 @@ def simulate(
         mass_kg: subject mass for the template, kg.
         still_s: standing still at the start, s.
         geometry: a leg to use instead of the random template placements.
+        artefacts: realism profile (impacts, wobbling soft tissue, skin motion,
+            clock and scale errors); ``None`` or :meth:`Artefacts.none` gives
+            the rigid signals. Its random draws use their own stream, so the
+            placements, motion and noise are those of the rigid simulation.
 
     Returns:
         A :class:`Simulation`.
@@ -147,6 +159,7 @@ def simulate(
     noise = ImuNoise() if noise is None else noise
     sta = SoftTissue() if soft_tissue is True else (soft_tissue or None)
     rng = np.random.default_rng(seed)
+    art = artefacts if artefacts is not None and artefacts.active else None
 
     if geometry is None:
         geometry = LegGeometry.from_anthropometry(side, height_m, mass_kg)
@@ -203,10 +216,17 @@ def simulate(
             oMf = pin.updateFramePlacement(model, data, fid)
             gyr[sensor][k] = pin.getFrameVelocity(model, data, fid, LOCAL).angular
             acc[sensor][k] = pin.getFrameClassicalAcceleration(model, data, fid, LOCAL).linear
-            if sta is not None:
+            if sta is not None or art is not None:
                 alpha[sensor][k] = pin.getFrameAcceleration(model, data, fid, LOCAL).angular
             rot[sensor][k] = oMf.rotation
             pos[sensor][k] = oMf.translation
+    tissue: dict[str, TissueMotion] = {}
+    contacts = (np.zeros(0), np.zeros(0))
+    art_rng = np.random.default_rng([seed, 9] if art is None or art.seed is None else art.seed)
+    if art is not None:
+        contacts, tissue = _tissue_motion(
+            art, rate_hz, t, s, kin.gait_phase, acc, base_pl, (Q, V, A), art_rng
+        )
     for sensor in SENSORS:
         if sta is not None:
             # the sensor slides by Δ(t) on its segment (Δ in the segment frame, linear in the
@@ -223,7 +243,26 @@ def simulate(
                 np.cross(alpha[sensor], r) + np.cross(w, np.cross(w, r)) + 2.0 * np.cross(w, r_v) + r_a
             )
             pos[sensor] += np.einsum("nij,nj->ni", rot[sensor], r)
+        if art is not None:
+            tm = tissue[sensor]
+            R_seg_s = base_pl[sensor].rotation
+            r, r_v, r_a = (x @ R_seg_s for x in (tm.d, tm.d_v, tm.d_a))
+            w = gyr[sensor]
+            acc[sensor] += (
+                np.cross(alpha[sensor], r) + np.cross(w, np.cross(w, r)) + 2.0 * np.cross(w, r_v) + r_a
+            )
+            pos[sensor] += np.einsum("nij,nj->ni", rot[sensor], r)
         acc[sensor] -= np.einsum("nji,j->ni", rot[sensor], GRAVITY_ENU)
+        if art is not None:
+            # the sensor is rotated by φ (nominal sensor frame) relative to its nominal frame
+            R_seg_s = base_pl[sensor].rotation
+            phi, phi_v = tissue[sensor].th @ R_seg_s, tissue[sensor].th_v @ R_seg_s
+            R_w = exp_so3(phi)
+            acc[sensor] = np.einsum("nji,nj->ni", R_w, acc[sensor])
+            gyr[sensor] = np.einsum("nji,nj->ni", R_w, gyr[sensor]) + np.einsum(
+                "nij,nj->ni", right_jacobian_so3(phi), phi_v
+            )
+            rot[sensor] = rot[sensor] @ R_w
 
     quat = {sensor: quat_make_continuous(quat_from_matrix(rot[sensor])) for sensor in SENSORS}
     mag = {sensor: np.einsum("nji,j->ni", rot[sensor], MAG_FIELD_ENU_UT) for sensor in SENSORS}
@@ -232,14 +271,16 @@ def simulate(
     h2a = np.einsum("nji,nj->ni", Rp, ankle_c - hip_c)
 
     clean = ImuTrial(t.copy(), acc, gyr, mag if with_mag else None, side)
+    errors = draw_sensor_errors(art, n, art_rng) if art is not None else None
+    m_acc, m_gyr, m_mag = (acc, gyr, mag) if errors is None else _apply_errors(t, acc, gyr, mag, errors)
     bias = {}
     n_acc, n_gyr, n_mag = {}, {}, {}
     for sensor in SENSORS:
         b = rng.normal(size=3)
         bias[sensor] = noise.gyr_bias_rps * b / np.linalg.norm(b)
-        n_gyr[sensor] = gyr[sensor] + bias[sensor] + noise.gyr_std_rps * rng.normal(size=(n, 3))
-        n_acc[sensor] = acc[sensor] + noise.acc_std_mps2 * rng.normal(size=(n, 3))
-        n_mag[sensor] = mag[sensor] + noise.mag_std_ut * rng.normal(size=(n, 3))
+        n_gyr[sensor] = m_gyr[sensor] + bias[sensor] + noise.gyr_std_rps * rng.normal(size=(n, 3))
+        n_acc[sensor] = m_acc[sensor] + noise.acc_std_mps2 * rng.normal(size=(n, 3))
+        n_mag[sensor] = m_mag[sensor] + noise.mag_std_ut * rng.normal(size=(n, 3))
     trial = ImuTrial(t.copy(), n_acc, n_gyr, n_mag if with_mag else None, side)
 
     true_model = LegModel(sim_model.geometry)
@@ -263,6 +304,19 @@ def simulate(
             "urdf": true_model.to_urdf_string(),
         }
     )
+    art_truth = None
+    if art is not None and errors is not None:
+        art_truth = ArtefactTruth(
+            params=art,
+            contact_times_s=contacts[0],
+            contra_contact_times_s=contacts[1],
+            displacement_m={sensor: tissue[sensor].d for sensor in SENSORS},
+            rotation_rad={sensor: tissue[sensor].th @ base_pl[sensor].rotation for sensor in SENSORS},
+            clock_offset_s=errors.clock_offset_s,
+            acc_matrix=errors.acc_matrix,
+            gyr_matrix=errors.gyr_matrix,
+        )
+        truth["artefacts"] = art_truth.to_dict()
     return Simulation(
         trial=trial,
         clean=clean,
@@ -275,7 +329,56 @@ def simulate(
         gyr_bias_rps=bias,
         sta_offsets_m=sta_off if sta is not None else {},
         runtime_s=time.perf_counter() - t_start,
+        artefacts=art_truth,
     )
+
+
+def _tissue_motion(
+    art: Artefacts,
+    rate_hz: float,
+    t: FloatArray,
+    s: FloatArray,
+    gait_phase: FloatArray | None,
+    acc_rigid: dict[str, FloatArray],
+    base_pl: dict[str, pin.SE3],
+    QVA: tuple[FloatArray, FloatArray, FloatArray],
+    rng: np.random.Generator,
+) -> tuple[tuple[FloatArray, FloatArray], dict[str, TissueMotion]]:
+    """Initial contacts (instrumented, other foot) and each sensor's non-rigid motion.
+
+    ``acc_rigid`` is the rigid classical acceleration of each sensor point
+    (nominal sensor frame, without gravity); impacts are weighted by the walk's
+    start-up ramp ``s`` at the contact.
+    """
+    if gait_phase is None:
+        ipsi, contra = np.zeros(0), np.zeros(0)
+    else:
+        ipsi, contra = contact_times(t, gait_phase, 0.0), contact_times(t, gait_phase, 0.5)
+        ipsi, contra = ipsi[np.interp(ipsi, t, s) > 0.0], contra[np.interp(contra, t, s) > 0.0]
+    weights = (np.interp(ipsi, t, s), np.interp(contra, t, s))
+    bone_acc = {sensor: acc_rigid[sensor] @ base_pl[sensor].rotation.T for sensor in SENSORS}
+    normal = {sensor: base_pl[sensor].rotation[:, 2] for sensor in SENSORS}
+    n_root = 7
+    joints = (QVA[0][:, n_root:], QVA[1][:, n_root:], QVA[2][:, n_root:])
+    tissue = compute_tissue_motion(art, rate_hz, t, ipsi, contra, weights, bone_acc, normal, joints, rng)
+    return (ipsi, contra), tissue
+
+
+def _apply_errors(
+    t: FloatArray,
+    acc: dict[str, FloatArray],
+    gyr: dict[str, FloatArray],
+    mag: dict[str, FloatArray],
+    errors: SensorErrors,
+) -> tuple[dict[str, FloatArray], dict[str, FloatArray], dict[str, FloatArray]]:
+    """Clock-shifted, scaled and misaligned accelerometer, gyro and magnetometer signals."""
+    out_acc, out_gyr, out_mag = {}, {}, {}
+    for sensor in SENSORS:
+        dt = errors.sample_time_error_s[sensor]
+        out_acc[sensor] = resample_at(t, acc[sensor], dt) @ errors.acc_matrix[sensor].T
+        out_gyr[sensor] = resample_at(t, gyr[sensor], dt) @ errors.gyr_matrix[sensor].T
+        out_mag[sensor] = resample_at(t, mag[sensor], dt)
+    return out_acc, out_gyr, out_mag
 
 
 def _anchor_pelvis(sim_model: LegModel, Q: FloatArray) -> FloatArray:
