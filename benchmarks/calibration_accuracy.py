@@ -44,11 +44,14 @@ import numpy as np  # noqa: E402
 
 from lowerlimb.calibration import METHODS, CalibrationOptions, calibrate_leg  # noqa: E402
 from lowerlimb.calibration.geometry import angle_between_deg, distance_to_line  # noqa: E402
-from lowerlimb.simulation import ImuNoise, simulate  # noqa: E402
+from lowerlimb.simulation import Artefacts, ImuNoise, simulate  # noqa: E402
 
 #: Hu et al. 2021, Table 1: mean run time of one calibration, s.
 PAPER_RUNTIME_S = {"gn": 1556.0, "dwpso": 1076.0, "gwo": 576.0}
-NOISES = {"noise-free": ImuNoise.none(), "realistic": ImuNoise()}
+NOISES = {"noise-free": ImuNoise.none(), "realistic": ImuNoise(), "real-artefacts": ImuNoise()}
+#: Conditions that add the simulator's real-walk artefacts (impacts, wobbling
+#: tissue, skin motion, clock and scale errors: ``simulate --artefacts real``).
+ARTEFACTS = {"real-artefacts": Artefacts.real_walk()}
 METRICS = (
     ("hip_child_mm", "hip in thigh, mm"),
     ("hip_parent_mm", "hip in pelvis, mm"),
@@ -98,7 +101,9 @@ def errors(cal: Any, truth: dict[str, Any]) -> dict[str, float]:
 def run_trial(task: tuple[str, str, int, float, list[str], dict[str, Any]]) -> list[dict[str, Any]]:
     """Simulate one trial and calibrate it with every method."""
     motion, noise_name, seed, duration, methods, option_kw = task
-    sim = simulate(motion, duration_s=duration, seed=seed, noise=NOISES[noise_name])
+    sim = simulate(
+        motion, duration_s=duration, seed=seed, noise=NOISES[noise_name], artefacts=ARTEFACTS.get(noise_name)
+    )
     opts = replace(CalibrationOptions(), **option_kw)
     rows = []
     for method in methods:

@@ -5,7 +5,9 @@ Two mistakes give plausible-looking numbers and exit 0 unless they are caught:
 - **Swapped columns** (thigh data under ``shank_*`` and the other way round, or
   shank and foot). The joint constraints themselves tell: the pelvis and the
   real thigh share a joint centre, so the spherical residual (Hu 2021 eq. 7)
-  of pelvis–thigh is far below that of pelvis–shank; likewise the thigh and
+  of pelvis–thigh is far below that of pelvis–shank, and that of shank–foot
+  below that of thigh–foot (the two joints whose pairs change when thigh and
+  shank are exchanged; their residuals are summed); likewise the thigh and
   the real shank share the knee, the thigh and the foot share no point. When
   the alternative pairing fits clearly better (its residual below
   ``swap_ratio`` times the assumed one), the columns are swapped.
@@ -44,10 +46,13 @@ class PlausibilityParams:
             of the assumed pairing's for the columns to count as swapped.
         side_min_offset_m: lateral hip offset from the pelvis sensor, in the pelvis
             segment frame, beyond which the side is decided, m.
+        side_max_offset_m: beyond this lateral offset the hip centre itself is
+            implausible (a poor calibration) and no side verdict is given, m.
     """
 
     swap_ratio: float = 0.7
     side_min_offset_m: float = 0.03
+    side_max_offset_m: float = 0.2
 
 
 class SensorOrderError(InputError):
@@ -57,7 +62,7 @@ class SensorOrderError(InputError):
         self.first, self.second = first, second
         self.assumed_rms, self.swapped_rms = assumed_rms, swapped_rms
         super().__init__(
-            f"the {first} and {second} columns look swapped: as given, the {joint} constraint leaves "
+            f"the {first} and {second} columns look swapped: as given, the {joint} constraints leave "
             f"{assumed_rms:.2f} m/s² RMS, with the two sensors exchanged {swapped_rms:.2f} m/s²; "
             f"exchange the {first}_* and {second}_* columns (or pass --no-order-check if the "
             f"trial is right)"
@@ -112,14 +117,22 @@ def check_sensor_order(
         SensorOrderError: naming the two sensors and both residuals.
     """
     p = params or PlausibilityParams()
-    for anchor, first, second, joint in (
-        ("pelvis", "thigh", "shank", "hip"),
-        ("thigh", "shank", "foot", "knee"),
-    ):
-        assumed = _residual(acc, gyr, sig, anchor, first, options)
-        swapped = _residual(acc, gyr, sig, anchor, second, options)
-        if swapped < p.swap_ratio * assumed:
-            raise SensorOrderError(first, second, assumed, swapped, joint)
+    # thigh/shank exchanged: hip(pelvis, thigh) + ankle(shank, foot) against
+    # hip(pelvis, shank) + ankle(thigh, foot); the knee pair is the same either way
+    assumed = _residual(acc, gyr, sig, "pelvis", "thigh", options) + _residual(
+        acc, gyr, sig, "shank", "foot", options
+    )
+    swapped = _residual(acc, gyr, sig, "pelvis", "shank", options) + _residual(
+        acc, gyr, sig, "thigh", "foot", options
+    )
+    if swapped < p.swap_ratio * assumed:
+        raise SensorOrderError("thigh", "shank", assumed, swapped, "hip and ankle")
+    # shank/foot exchanged: knee(thigh, shank) against knee(thigh, foot); the ankle
+    # pair is the same either way and the hip does not involve them
+    assumed = _residual(acc, gyr, sig, "thigh", "shank", options)
+    swapped = _residual(acc, gyr, sig, "thigh", "foot", options)
+    if swapped < p.swap_ratio * assumed:
+        raise SensorOrderError("shank", "foot", assumed, swapped, "knee")
 
 
 def check_side(
@@ -138,7 +151,7 @@ def check_side(
     """
     p = params or PlausibilityParams()
     lateral = float(np.asarray(hip_from_pelvis_sensor, dtype=float)[2])
-    if abs(lateral) < p.side_min_offset_m:
+    if not p.side_min_offset_m <= abs(lateral) <= p.side_max_offset_m:
         return
     if (lateral > 0) != (side == "right"):
         raise WrongSideError(side, lateral)
