@@ -99,7 +99,9 @@ def all_broad():
     return {p.stem: _load(p) for p in BROAD}
 
 
-@pytest.mark.parametrize(("method", "mode"), list(BROAD_MEASURED_DEG), ids=[f"{m}-{d}" for m, d in BROAD_MEASURED_DEG])
+@pytest.mark.parametrize(
+    ("method", "mode"), list(BROAD_MEASURED_DEG), ids=[f"{m}-{d}" for m, d in BROAD_MEASURED_DEG]
+)
 def test_every_filter_stays_near_its_broad_accuracy(all_broad, method, mode):
     totals, inclinations = [], []
     for t in all_broad.values():
