@@ -1,8 +1,9 @@
-"""Shared fixtures: simulated trials (cached per session)."""
+"""Shared fixtures: simulated trials (cached per session); required tests may not skip in CI."""
 
 from __future__ import annotations
 
 import pytest
+from required_skips import pytest_configure, pytest_runtest_makereport  # noqa: F401  (hooks)
 from simcache import cached_simulation
 
 from lowerlimb.simulation import ImuNoise, Simulation

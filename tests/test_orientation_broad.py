@@ -71,3 +71,47 @@ def test_mahony_accuracy_on_a_whole_trial():
     e = orientation_errors(q, t["quat"], t["movement"])
     assert e.total_deg < 2.0
     assert e.inclination_deg < 1.0
+
+
+#: Whole-trial accuracy of every filter with its default parameters on the 8 BROAD
+#: development trials (``benchmarks/results/orientation.md``): measured mean total RMSE,
+#: mean inclination RMSE and the largest per-trial total RMSE, degrees; 6D after removing
+#: the best constant heading offset, as BROAD scores it.
+BROAD_MEASURED_DEG = {
+    ("mahony", "9D"): (2.02, 0.91, 3.97),
+    ("mahony", "6D"): (2.18, 0.91, 5.20),
+    ("ftecf", "9D"): (2.60, 1.16, 4.16),
+    ("ftecf", "6D"): (2.35, 1.17, 5.86),
+    ("madgwick", "9D"): (2.30, 1.11, 4.10),
+    ("madgwick", "6D"): (2.28, 1.00, 5.42),
+    ("quest_kf", "9D"): (3.37, 2.12, 6.93),
+    ("quest_kf", "6D"): (3.11, 2.28, 7.25),
+}
+#: the regression bounds sit at 1.5x the measured values
+BROAD_MARGIN = 1.5
+BROAD_DEVELOPMENT_TRIALS = 8
+
+
+@pytest.fixture(scope="module")
+def all_broad():
+    if len(BROAD) != BROAD_DEVELOPMENT_TRIALS:
+        pytest.skip(f"{BROAD_DEVELOPMENT_TRIALS} BROAD development trials needed, found {len(BROAD)}")
+    return {p.stem: _load(p) for p in BROAD}
+
+
+@pytest.mark.parametrize(
+    ("method", "mode"), list(BROAD_MEASURED_DEG), ids=[f"{m}-{d}" for m, d in BROAD_MEASURED_DEG]
+)
+def test_every_filter_stays_near_its_broad_accuracy(all_broad, method, mode):
+    totals, inclinations = [], []
+    for t in all_broad.values():
+        mag = t["mag"] if mode == "9D" else None
+        q = estimate_orientation(t["gyr"], t["acc"], mag, rate_hz=t["rate_hz"], method=method)
+        e = orientation_errors(q, t["quat"], t["movement"], remove_heading_offset=mode == "6D")
+        totals.append(e.total_deg)
+        inclinations.append(e.inclination_deg)
+    mean_total, mean_incl, max_total = BROAD_MEASURED_DEG[(method, mode)]
+    got = (float(np.mean(totals)), float(np.mean(inclinations)), float(np.max(totals)))
+    assert got[0] < BROAD_MARGIN * mean_total, (got, dict(zip(all_broad, totals, strict=True)))
+    assert got[1] < BROAD_MARGIN * mean_incl, (got, dict(zip(all_broad, inclinations, strict=True)))
+    assert got[2] < BROAD_MARGIN * max_total, (got, dict(zip(all_broad, totals, strict=True)))

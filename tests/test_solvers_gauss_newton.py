@@ -171,3 +171,34 @@ def test_linear_least_squares_matches_lstsq(seed, m, n, step):
     np.testing.assert_allclose(res.x, expected, atol=1e-8 * (1 + np.abs(expected).max()))
     if step != "levenberg_marquardt":
         assert res.iterations <= 2  # one Gauss–Newton step solves a linear problem
+
+
+def numerically_singular_start():
+    """r = (x0, 1 + 1e-17 x1 + x1³), minimum r = 0 at (0, -1), started at (0, 0).
+
+    At the start J = diag(1, 1e-17): the second singular value is below the pseudo-inverse
+    cut-off, so the Gauss–Newton direction is zero although the cost is 0.5 and the
+    gradient (0, 1e-17) is not. Only the steepest-descent fallback can move (downhill is
+    x1 < 0; uphill, x1 > 0, only increases the cost).
+    """
+
+    def residual(x):
+        return np.array([x[0], 1.0 + 1e-17 * x[1] + x[1] ** 3])
+
+    def jacobian(x):
+        return np.array([[1.0, 0.0], [0.0, 1e-17 + 3.0 * x[1] ** 2]])
+
+    return residual, jacobian
+
+
+def test_steepest_descent_fallback_moves_where_the_gauss_newton_step_is_zero():
+    residual, jacobian = numerically_singular_start()
+    res = gauss_newton(residual, jacobian, np.zeros(2), step="line_search")
+    assert res.converged
+    np.testing.assert_allclose(res.x, [0.0, -1.0], atol=1e-9)
+    assert res.cost < 1e-20
+    history = res.diagnostics["cost_history"]
+    assert history[0] == 0.5 and np.all(np.diff(history) <= 0)  # every accepted step went downhill
+    # the pure pseudo-inverse step cannot leave the start: the problem needs the fallback
+    stuck = gauss_newton(residual, jacobian, np.zeros(2), step="pinv", max_iter=5)
+    assert stuck.cost == 0.5 and np.all(stuck.x == 0.0)

@@ -177,6 +177,7 @@ def test_mujoco_and_pinocchio_agree_on_inverse_dynamics(exported):
         assert np.allclose(data.qfrc_inverse[dof], tau, atol=1e-6 * (1.0 + np.abs(tau).max()))
 
 
+@pytest.mark.urdf
 def test_check_urdf_accepts_the_export(exported):
     _, path, _ = exported
     exe = shutil.which("check_urdf")
