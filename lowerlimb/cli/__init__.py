@@ -18,6 +18,10 @@ import warnings
 from collections.abc import Callable, Sequence
 from types import ModuleType
 
+# Before anything heavy: Ctrl-C or SIGTERM from here on is recorded, and an interrupt
+# swallowed by a third-party import is raised again before any output is committed.
+from lowerlimb.io.interrupts import Interrupted, check_interrupted, install_signal_handlers  # isort: skip
+
 from lowerlimb import __version__
 from lowerlimb.cli import calibrate, compare, demo, import_, simulate, view
 from lowerlimb.cli._common import EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_OK, Parser, UsageError
@@ -57,6 +61,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     # cores (measured up to 20x slower on 2 cores). Set before numpy loads.
     for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ.setdefault(var, "1")
+    if _in_main_thread():
+        install_signal_handlers()
     try:
         args = build_parser().parse_args(argv)
         if args.command is None:
@@ -69,11 +75,18 @@ def main(argv: Sequence[str] | None = None) -> int:
             warnings.filterwarnings("ignore", category=DeprecationWarning)
             warnings.filterwarnings("ignore", category=PendingDeprecationWarning)
             warnings.filterwarnings("ignore", category=FutureWarning)
+            # numpy's floating-point notices ("invalid value encountered…") name no input and no
+            # fix; the checks refuse the inputs that cause them
+            warnings.filterwarnings("ignore", category=RuntimeWarning)
             warnings.formatwarning = _format_warning  # type: ignore[assignment]
+            check_interrupted()  # a signal swallowed while loading the command
             return COMMANDS[args.command](args)
     except (InputError, FileNotFoundError, IsADirectoryError, PermissionError) as e:
         print(f"lowerlimb: error: {_one_line(e)}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except Interrupted as e:
+        print(f"lowerlimb: interrupted ({e})", file=sys.stderr)
+        return e.exit_status
     except KeyboardInterrupt:
         print("lowerlimb: interrupted", file=sys.stderr)
         return 130
@@ -87,6 +100,12 @@ def main(argv: Sequence[str] | None = None) -> int:
             file=sys.stderr,
         )
         return EXIT_INTERNAL
+
+
+def _in_main_thread() -> bool:
+    import threading
+
+    return threading.current_thread() is threading.main_thread()
 
 
 def _one_line(e: BaseException) -> str:
