@@ -429,7 +429,7 @@ def read_calibration(path: Path, bounds: InputBounds = INPUT_BOUNDS) -> LegCalib
     if not isinstance(data, dict):
         raise InputError(f"{path} holds a JSON {type(data).__name__}, not a calibration object; {fix}")
     try:
-        check_side(data.get("side"))
+        check_side(str(data.get("side")))
     except ValueError:
         raise InputError(f"{path}: side {data.get('side')!r} is neither 'left' nor 'right'; {fix}") from None
     joints = data.get("joints")
