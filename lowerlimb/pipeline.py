@@ -268,7 +268,7 @@ def process_trial(
 
     clock.start()
     calib = calibrate_joints(trial, method, still, calibration)
-    clock.stop("joint calibration")
+    clock.stop("joint calibration" if calibration is None else "joint calibration reused")
 
     clock.start()
     orientations = estimate_orientations(trial, filter_name, use_mag=use_mag, reference=reference)
