@@ -225,10 +225,12 @@ class _Stopwatch:
     def start(self) -> None:
         self._t0 = time.perf_counter()
 
-    def stop(self, name: str) -> None:
+    def stop(self, name: str, note: str = "") -> None:
+        """End a stage; print its time, or ``note`` instead (a stage that was skipped)."""
         self.timings_s[name] = time.perf_counter() - self._t0
         if self.progress:
-            print(f"  {name:<22s} {self.timings_s[name]:6.2f} s", file=sys.stderr)
+            shown = note or f"{self.timings_s[name]:6.2f} s"
+            print(f"  {name:<22s} {shown}", file=sys.stderr)
 
 
 def process_trial(
@@ -268,7 +270,7 @@ def process_trial(
 
     clock.start()
     calib = calibrate_joints(trial, method, still, calibration)
-    clock.stop("joint calibration" if calibration is None else "joint calibration reused")
+    clock.stop("joint calibration", "" if calibration is None else "reused, not estimated")
 
     clock.start()
     orientations = estimate_orientations(trial, filter_name, use_mag=use_mag, reference=reference)
