@@ -18,10 +18,6 @@ import warnings
 from collections.abc import Callable, Sequence
 from types import ModuleType
 
-# Before anything heavy: Ctrl-C or SIGTERM from here on is recorded, and an interrupt
-# swallowed by a third-party import is raised again before any output is committed.
-from lowerlimb.io.interrupts import Interrupted, check_interrupted, install_signal_handlers  # isort: skip
-
 from lowerlimb import __version__
 from lowerlimb.cli import calibrate, compare, demo, import_, simulate, view
 from lowerlimb.cli._common import EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_OK, Parser, UsageError
@@ -61,14 +57,19 @@ def main(argv: Sequence[str] | None = None) -> int:
     # cores (measured up to 20x slower on 2 cores). Set before numpy loads.
     for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ.setdefault(var, "1")
-    if _in_main_thread():
-        install_signal_handlers()
     try:
         args = build_parser().parse_args(argv)
         if args.command is None:
             raise UsageError(
                 f"no command given; choose {', '.join(COMMAND_MODULES)} (see 'lowerlimb --help')"
             )
+        # Before the command's heavy imports: Ctrl-C or SIGTERM from here on is recorded, and
+        # an interrupt swallowed by a third-party import is raised again before any output is
+        # committed (lowerlimb.io.interrupts).
+        from lowerlimb.io.interrupts import check_interrupted, install_signal_handlers
+
+        if _in_main_thread():
+            install_signal_handlers()
         with warnings.catch_warnings():
             warnings.simplefilter("default")
             # third-party deprecation notices (pyzmq via meshcat…) are not the user's business
@@ -84,12 +85,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (InputError, FileNotFoundError, IsADirectoryError, PermissionError) as e:
         print(f"lowerlimb: error: {_one_line(e)}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except Interrupted as e:
-        print(f"lowerlimb: interrupted ({e})", file=sys.stderr)
-        return e.exit_status
-    except KeyboardInterrupt:
-        print("lowerlimb: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as e:
+        signum = getattr(e, "signum", None)
+        print(f"lowerlimb: interrupted{f' ({e})' if signum else ''}", file=sys.stderr)
+        return 128 + (signum or 2)
     except Exception as e:  # a bug or a solver failure, not the user's input
         if os.environ.get("LOWERLIMB_DEBUG"):
             raise

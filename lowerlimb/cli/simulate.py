@@ -9,7 +9,6 @@ from pathlib import Path
 
 from lowerlimb.cli._common import EXIT_OK, add_side, positive_float
 from lowerlimb.errors import InputError
-from lowerlimb.io.bounds import INPUT_BOUNDS, check_range
 
 
 def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -55,6 +54,7 @@ def check_arguments(args: argparse.Namespace) -> dict[str, Path]:
             same file, a missing or read-only folder, or an existing file without ``--force``.
     """
     from lowerlimb.io.atomic import check_new_files
+    from lowerlimb.io.bounds import INPUT_BOUNDS, check_range
 
     b = INPUT_BOUNDS
     check_range("--duration", args.duration, b.duration_s, "s", "the trial length")
