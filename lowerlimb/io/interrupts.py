@@ -48,8 +48,9 @@ def _handler(signum: int, frame: FrameType | None) -> None:
 def install_signal_handlers() -> None:
     """Turn SIGINT and SIGTERM into :class:`Interrupted`, and remember them (main thread only)."""
     _received.clear()
-    signal.signal(signal.SIGINT, _handler)
-    signal.signal(signal.SIGTERM, _handler)
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        if signal.getsignal(signum) is not signal.SIG_IGN:  # an inherited "ignore" (nohup, `&`) stays
+            signal.signal(signum, _handler)
 
 
 def received_signal() -> int | None:
