@@ -20,7 +20,14 @@ from .io.atomic import check_new_directory, populate_directory
 from .io.tables import write_angles_csv, write_positions_csv
 from .simulation import ImuNoise, Simulation, simulate
 
-__all__ = ["DemoOptions", "angle_rmse_deg", "compare_with_truth", "run_demo", "summary_markdown"]
+__all__ = [
+    "DemoOptions",
+    "angle_rmse_deg",
+    "compare_with_truth",
+    "run_demo",
+    "fresh_directory",
+    "summary_markdown",
+]
 
 
 @dataclass(frozen=True)
@@ -28,12 +35,13 @@ class DemoOptions:
     """What ``lowerlimb demo`` runs.
 
     Attributes:
-        out: output folder to create (absent or empty).
+        out: output folder to create (absent or empty); by default a fresh
+            ``lowerlimb_demo``, ``lowerlimb_demo_2``, … in the current folder.
         duration_s: length of the simulated walk, s.
         seed: random seed of the simulation.
     """
 
-    out: Path = Path("lowerlimb_demo")
+    out: Path | None = None
     duration_s: float = 30.0
     seed: int = 1
 
@@ -92,17 +100,31 @@ def summary_markdown(
     return "\n".join(lines)
 
 
+#: Stem of the demo's default output folder (in .gitignore).
+DEFAULT_DEMO_DIR = "lowerlimb_demo"
+
+
+def fresh_directory(base: Path) -> Path:
+    """Return ``base`` if it is absent or empty, else the first absent ``base_2``, ``base_3``, …."""
+    if not base.exists() or (base.is_dir() and not any(base.iterdir())):
+        return base
+    k = 2
+    while base.with_name(f"{base.name}_{k}").exists():
+        k += 1
+    return base.with_name(f"{base.name}_{k}")
+
+
 def run_demo(options: DemoOptions) -> None:
     """Simulate a walk, calibrate it, write all outputs plus the truth comparison into ``options.out``.
 
     Raises:
-        InputError: ``options.out`` exists and is not empty.
+        InputError: ``options.out`` (when given) exists and is not empty.
     """
-    from .outputs import write_outputs
+    from .outputs import CalibrateOptions, build_provenance, write_outputs
     from .pipeline import process_trial
     from .viz.plots import plot_angles
 
-    out = Path(options.out)
+    out = fresh_directory(Path(DEFAULT_DEMO_DIR)) if options.out is None else Path(options.out)
     check_new_directory(out)
     print(
         f"simulating a {options.duration_s:g} s walk (seed {options.seed}, realistic noise and bias)…",
@@ -119,7 +141,15 @@ def run_demo(options: DemoOptions) -> None:
         (d / "truth.json").write_text(json.dumps(sim.truth, indent=2), encoding="utf-8")
         write_angles_csv(d / "truth_angles.csv", sim.trial.time_s, sim.angles_rad)
         write_positions_csv(d / "truth_positions.csv", sim.trial.time_s, sim.positions_m)
-        write_outputs(result, d, truth_angles_rad=sim.angles_rad, truth_positions_m=sim.positions_m)
+        provenance = build_provenance(CalibrateOptions(trial=d / "trial.csv", out=out))
+        provenance["input_file"] = str(out / "trial.csv")
+        write_outputs(
+            result,
+            d,
+            truth_angles_rad=sim.angles_rad,
+            truth_positions_m=sim.positions_m,
+            provenance=provenance,
+        )
         (d / "summary.md").write_text(summary, encoding="utf-8")
         plot_angles(
             d / "angles.png",

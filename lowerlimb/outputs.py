@@ -10,6 +10,7 @@ its arguments into :class:`CalibrateOptions`.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import sys
 import warnings
@@ -17,13 +18,18 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from .calibration import LegCalibration
 from .calibration.options import CalibrationOptions, check_method
-from .conventions import FloatArray
+from .conventions import FloatArray, check_side
 from .errors import InputError
 from .io.atomic import check_new_directory, populate_directory
+from .io.bounds import INPUT_BOUNDS, InputBounds, check_range, check_vectors
+from .io.interrupts import check_interrupted
 from .io.tables import write_angles_csv, write_positions_csv
 from .io.trial import ImuTrial
+from .methods import ORIENTATION_FILTERS
 from .model.leg_model import LegModel
 from .pipeline import TrialResult, process_trial
 from .s2j import S2JModel
@@ -31,9 +37,12 @@ from .s2j import S2JModel
 __all__ = [
     "S2J_SIDECAR",
     "CalibrateOptions",
+    "build_provenance",
+    "check_options",
     "load_calibrated",
     "read_calibration",
     "read_s2j",
+    "residual_lines",
     "run_calibrate",
     "urdf_with_sidecar",
     "write_outputs",
@@ -50,6 +59,7 @@ def write_outputs(
     *,
     truth_angles_rad: FloatArray | None = None,
     truth_positions_m: FloatArray | None = None,
+    provenance: dict[str, Any] | None = None,
 ) -> None:
     """Write every output of a processed trial (docs/formats.md) into ``directory``.
 
@@ -58,8 +68,11 @@ def write_outputs(
         directory: an existing, empty folder.
         truth_angles_rad: (N, 9) known angles (simulations) to overlay in the report.
         truth_positions_m: (N, 6) known positions to overlay in the report.
+        provenance: calibration.json's ``provenance`` (:func:`build_provenance`).
     """
     d = result.calibration_dict()
+    if provenance is not None:
+        d["provenance"] = provenance
     d["urdf"] = "calibrated.urdf"
     d["s2j"] = S2J_SIDECAR
     (directory / "calibration.json").write_text(json.dumps(d, indent=2), encoding="utf-8")
@@ -72,13 +85,13 @@ def write_outputs(
     _write_report(result, directory, d, truth_angles_rad, truth_positions_m)
 
 
-def write_result(result: TrialResult, out: Path) -> None:
+def write_result(result: TrialResult, out: Path, *, provenance: dict[str, Any] | None = None) -> None:
     """Create the folder ``out`` holding every output of ``result``, or nothing at all.
 
     Raises:
         InputError: ``out`` exists and is not empty, or its parent does not exist.
     """
-    populate_directory(out, lambda d: write_outputs(result, d))
+    populate_directory(out, lambda d: write_outputs(result, d, provenance=provenance))
 
 
 def urdf_with_sidecar(urdf: str) -> str:
@@ -161,22 +174,51 @@ class CalibrateOptions:
     order_check: bool = True
 
 
+def check_options(options: CalibrateOptions, bounds: InputBounds = INPUT_BOUNDS) -> None:
+    """Check the options that need no file: side, method, filter, height, mass, the output folder.
+
+    Raises:
+        InputError: naming the option and the accepted values.
+    """
+    try:
+        check_side(options.side)
+    except ValueError as e:
+        raise InputError(f"{e}; pass --side left or --side right") from None
+    check_method(options.method)
+    if options.filter_name not in ORIENTATION_FILTERS:
+        raise InputError(
+            f"unknown filter {options.filter_name!r}; choose one of {', '.join(ORIENTATION_FILTERS)}"
+        )
+    check_range("--height", options.height_m, bounds.height_m, "m", "the subject's stature")
+    check_range("--mass", options.mass_kg, bounds.mass_kg, "kg", "the subject's mass")
+    check_new_directory(Path(options.out))
+
+
 def run_calibrate(options: CalibrateOptions) -> TrialResult:
     """Calibrate a trial file and write its result folder; progress and warnings go to stderr.
 
-    Checks every input before computing, computes everything, then writes the
-    folder at once.
+    Checks every input before computing (options, output folder, trial, the
+    calibration and S2J files and their values), computes everything, then
+    writes the folder at once.
 
     Raises:
         InputError: bad trial, bad options, or an existing non-empty output folder.
         FileNotFoundError: the trial, calibration or S2J file does not exist.
     """
     out = Path(options.out)
-    check_new_directory(out)
-    trial = ImuTrial.from_csv(options.trial, side=options.side)
+    check_options(options)
     s2j = None if options.s2j is None else read_s2j(Path(options.s2j))
     previous = None if options.calibration is None else read_calibration(Path(options.calibration))
-    check_method(options.method)
+    if previous is not None and previous.side != options.side:
+        raise InputError(
+            f"{options.calibration} is of the {previous.side} leg but the trial is the {options.side} "
+            f"leg; pass --side {previous.side} or another calibration"
+        )
+    trial = ImuTrial.from_csv(options.trial, side=options.side, use_mag=options.use_mag)
+    if previous is None:
+        trial.check_motion(INPUT_BOUNDS.min_motion_gyro_std_rps)
+    provenance = build_provenance(options)
+    check_interrupted()
     print(
         f"calibrating {options.trial} ({trial.n_samples} samples at {trial.rate_hz:.4g} Hz, "
         f"{trial.duration_s:.1f} s, {trial.side} leg, method {options.method}, filter {options.filter_name})",
@@ -198,12 +240,93 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
             side_check=options.side_check,
         )
     _print_warnings(caught)
-    write_result(result, out)
+    write_result(result, out, provenance=provenance)
     cal = result.calibration
+    if options.calibration is not None:
+        print(
+            f"joint calibration reused from {options.calibration} (not estimated on this trial); "
+            f"wrote {out}/",
+            file=sys.stderr,
+        )
+        return result
     print(f"joint calibration took {cal.runtime_s:.3f} s; wrote {out}/", file=sys.stderr)
-    for name, joint in cal.joints.items():
-        print(f"  {name:<6s} rms residual {joint.to_dict()['rms_residual']:.4g}", file=sys.stderr)
+    for line in residual_lines(result.calibration_dict()):
+        print(f"  {line}", file=sys.stderr)
     return result
+
+
+def residual_lines(calibration: dict[str, Any]) -> list[str]:
+    """One line per joint with its RMS residuals and their units (m/s² spherical, rad/s hinge axis)."""
+    lines = []
+    for name, joint in calibration["joints"].items():
+        unit = joint.get("rms_residual_unit", "m/s^2").replace("^2", "²")
+        text = f"{name:<6s} rms residual {_fmt(joint.get('rms_residual'))} {unit}"
+        if "rms_residual_axis" in joint:
+            text += f" (centre), axis {_fmt(joint['rms_residual_axis'])} rad/s"
+        lines.append(text)
+    return lines
+
+
+def _fmt(value: Any) -> str:
+    return "n/a" if value is None else f"{float(value):.4g}"
+
+
+#: Distributions whose versions calibration.json records (import name -> distribution names).
+KEY_DEPENDENCIES: dict[str, tuple[str, ...]] = {
+    "numpy": ("numpy",),
+    "scipy": ("scipy",),
+    "casadi": ("casadi",),
+    "pinocchio": ("pin", "pinocchio"),
+    "numba": ("numba",),
+    "meshcat": ("meshcat",),
+}
+
+
+def dependency_versions() -> dict[str, str | None]:
+    """``{name: version}`` of the key dependencies (None when not installed)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out: dict[str, str | None] = {}
+    for name, dists in KEY_DEPENDENCIES.items():
+        out[name] = None
+        for dist in dists:
+            try:
+                out[name] = version(dist)
+                break
+            except PackageNotFoundError:
+                continue
+    return out
+
+
+def file_sha256(path: Path) -> str:
+    """SHA-256 of a file's bytes, hex."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            digest.update(chunk)
+    return digest.hexdigest()
+
+
+def build_provenance(options: CalibrateOptions) -> dict[str, Any]:
+    """calibration.json's ``provenance`` (docs/formats.md, Provenance): versions, input, options, reuse."""
+    from . import __version__
+
+    return {
+        "lowerlimb_version": __version__,
+        "dependencies": dependency_versions(),
+        "input_file": str(options.trial),
+        "input_sha256": file_sha256(Path(options.trial)),
+        "options": {
+            "side": options.side,
+            "filter": options.filter_name,
+            "method": options.method,
+            "height": options.height_m,
+            "mass": options.mass_kg,
+            "use_mag": options.use_mag,
+            "s2j": None if options.s2j is None else str(options.s2j),
+        },
+        "calibration_reused_from": None if options.calibration is None else str(options.calibration),
+    }
 
 
 def _print_warnings(caught: list[warnings.WarningMessage]) -> None:
@@ -218,47 +341,126 @@ def _print_warnings(caught: list[warnings.WarningMessage]) -> None:
             print(f"lowerlimb: warning: {text}", file=sys.stderr)
 
 
-def read_s2j(path: Path) -> S2JModel:
-    """Read an ``s2j.json`` written by :meth:`S2JModel.to_dict`.
+def _load_json(path: Path, what: str, fix: str) -> Any:
+    """Parse a JSON file; any unreadable content is one InputError naming the file.
+
+    NaN, Infinity and numbers that overflow to infinity are refused here; a
+    too-deep nesting is refused instead of exhausting the interpreter's stack.
+    """
+    if path.is_dir():
+        raise InputError(f"{path} is a directory, not a {what}; {fix}")
+    if not path.is_file():
+        raise FileNotFoundError(f"{what} not found: {path}")
+    if path.stat().st_size > INPUT_BOUNDS.max_json_bytes:
+        raise InputError(f"{path} is larger than any {what} ({path.stat().st_size} bytes); {fix}")
+
+    def refuse_constant(name: str) -> float:
+        raise ValueError(f"it holds {name}, which is not a number")
+
+    def finite_float(text: str) -> float:
+        x = float(text)
+        if not np.isfinite(x):
+            raise ValueError(f"the number {text[:30]} overflows")
+        return x
+
+    try:
+        text = path.read_text(encoding="utf-8")
+        return json.loads(text, parse_constant=refuse_constant, parse_float=finite_float)
+    except UnicodeDecodeError:
+        raise InputError(f"{path} is not UTF-8 text; {fix}") from None
+    except RecursionError:
+        raise InputError(f"{path} is nested too deeply to be a {what}; {fix}") from None
+    except ValueError as e:
+        raise InputError(f"{path} is not a valid {what} ({_first_line(e)}); {fix}") from None
+
+
+def read_s2j(path: Path, bounds: InputBounds = INPUT_BOUNDS) -> S2JModel:
+    """Read an ``s2j.json`` written by :meth:`S2JModel.to_dict`, and check its vectors are plausible.
 
     Raises:
         FileNotFoundError: ``path`` does not exist.
-        InputError: the file is not JSON or not an S2J model; the message names the file.
+        InputError: the file is not JSON, not an S2J model, or holds a vector
+            that is not finite or longer than ``bounds.max_center_m``; the message
+            names the file.
     """
-    if not path.is_file():
-        raise FileNotFoundError(f"S2J model not found: {path}")
+    fix = "give an S2J model written by S2JModel.to_dict()"
+    data = _load_json(path, "S2J model (s2j.json)", fix)
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except ValueError as e:
-        raise InputError(
-            f"{path} is not JSON ({_first_line(e)}); give an S2J model written by S2JModel.to_dict()"
-        ) from None
-    try:
-        return S2JModel.from_dict(data)
+        model = S2JModel.from_dict(data)
     except InputError as e:
         raise InputError(f"{path}: {e}") from None
-    except (KeyError, TypeError) as e:
-        raise InputError(
-            f"{path} is not a lowerlimb S2J model ({e}); write one with S2JModel.to_dict()"
-        ) from None
+    except (
+        KeyError,
+        TypeError,
+        ValueError,
+        AttributeError,
+        IndexError,
+        RecursionError,
+        np.linalg.LinAlgError,
+    ) as e:
+        raise InputError(f"{path} is not a lowerlimb S2J model ({_first_line(e)}); {fix}") from None
+    vectors: list[tuple[str, Any]] = []
+    for joint, (s_prox, s_dist) in model.constant.items():
+        vectors += [(f"{joint} s_prox", s_prox), (f"{joint} s_dist", s_dist)]
+    for joint, reg in model.regressions.items():
+        try:
+            values = np.asarray(reg.grid_values, dtype=float)
+        except (TypeError, ValueError, IndexError, np.linalg.LinAlgError) as e:
+            raise InputError(
+                f"{path}: the {joint} regression cannot be evaluated ({_first_line(e)}); {fix}"
+            ) from None
+        if values.ndim != 2 or values.shape[1] != 6:
+            raise InputError(
+                f"{path}: the {joint} regression does not predict 6 values (s_prox, s_dist); {fix}"
+            )
+        vectors += [
+            (f"{joint} regression s_prox", values[:, :3]),
+            (f"{joint} regression s_dist", values[:, 3:]),
+        ]
+    check_vectors(str(path), vectors, bounds.max_center_m)
+    return model
 
 
-def read_calibration(path: Path) -> LegCalibration:
-    """Read a ``calibration.json`` written by ``lowerlimb calibrate``.
+def read_calibration(path: Path, bounds: InputBounds = INPUT_BOUNDS) -> LegCalibration:
+    """Read a ``calibration.json`` written by ``lowerlimb calibrate``, and check its values are plausible.
 
     Raises:
         FileNotFoundError: ``path`` does not exist.
-        InputError: the file is not a lowerlimb calibration; the message names the file.
+        InputError: the file is not a lowerlimb calibration, or a centre is not
+            finite or lies beyond ``bounds.max_center_m`` from its sensor, or an
+            axis is not a finite non-zero vector; the message names the file.
     """
-    if not path.is_file():
-        raise FileNotFoundError(f"calibration not found: {path}")
+    fix = "give the calibration.json written by 'lowerlimb calibrate'"
+    data = _load_json(path, "calibration.json", fix)
+    if not isinstance(data, dict):
+        raise InputError(f"{path} holds a JSON {type(data).__name__}, not a calibration object; {fix}")
     try:
-        return LegCalibration.from_dict(json.loads(path.read_text(encoding="utf-8")))
-    except (ValueError, TypeError) as e:
-        raise InputError(
-            f"{path} is not a lowerlimb calibration.json ({_first_line(e)}); give the calibration.json "
-            f"written by 'lowerlimb calibrate'"
-        ) from None
+        check_side(str(data.get("side")))
+    except ValueError:
+        raise InputError(f"{path}: side {data.get('side')!r} is neither 'left' nor 'right'; {fix}") from None
+    joints = data.get("joints")
+    if not isinstance(joints, dict):
+        raise InputError(f"{path} has no 'joints' object; {fix}")
+    for joint in ("hip", "knee", "ankle"):
+        if not isinstance(joints.get(joint), dict):
+            raise InputError(f"{path}: joint {joint!r} is missing or not an object; {fix}")
+    vectors = [
+        (f"{joint} {key}", joints[joint].get(key))
+        for joint in ("hip", "knee", "ankle")
+        for key in ("center_in_parent_sensor", "center_in_child_sensor")
+    ]
+    check_vectors(str(path), vectors, bounds.max_center_m)
+    for key in ("axis_in_parent_sensor", "axis_in_child_sensor"):
+        axis = joints["knee"].get(key)
+        check_vectors(str(path), [(f"knee {key}", axis)], np.inf)
+        if not 0.5 < float(np.linalg.norm(np.asarray(axis, dtype=float))) < 2.0:
+            raise InputError(f"{path}: knee {key} {axis} is not a unit vector; {fix}")
+    try:
+        return LegCalibration.from_dict(data)
+    except InputError as e:
+        raise InputError(f"{path}: {e}; {fix}") from None
+    except (ValueError, TypeError, KeyError, AttributeError, IndexError, np.linalg.LinAlgError) as e:
+        raise InputError(f"{path} is not a lowerlimb calibration.json ({_first_line(e)}); {fix}") from None
 
 
 def _first_line(e: BaseException) -> str:

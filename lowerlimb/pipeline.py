@@ -233,10 +233,12 @@ class _Stopwatch:
     def start(self) -> None:
         self._t0 = time.perf_counter()
 
-    def stop(self, name: str) -> None:
+    def stop(self, name: str, note: str = "") -> None:
+        """End a stage; print its time, or ``note`` instead (a stage that was skipped)."""
         self.timings_s[name] = time.perf_counter() - self._t0
         if self.progress:
-            print(f"  {name:<22s} {self.timings_s[name]:6.2f} s", file=sys.stderr)
+            shown = note or f"{self.timings_s[name]:6.2f} s"
+            print(f"  {name:<22s} {shown}", file=sys.stderr)
 
 
 def process_trial(
@@ -289,7 +291,7 @@ def process_trial(
     calib = calibrate_joints(trial, method, still, calibration, calibration_options)
     up = {s: trial.acc[s][reference].mean(axis=0) for s in ("thigh", "shank")}
     calib = with_plausible_lengths(calib, up, height_m=height_m)
-    clock.stop("joint calibration")
+    clock.stop("joint calibration", "" if calibration is None else "reused, not estimated")
 
     clock.start()
     orientations = estimate_orientations(trial, filter_name, use_mag=use_mag, reference=reference)

@@ -13,7 +13,7 @@ from lowerlimb.constraints.angular_acceleration import angular_acceleration, win
 from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass, rigid_band_hz
 from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import MAX_GYRO_RAD_S as GYRO_DEG_PER_S_THRESHOLD
-from lowerlimb.conventions import FloatArray
+from lowerlimb.conventions import MIN_MEDIAN_ACC_MPS2, FloatArray
 from lowerlimb.errors import InputError, NonFiniteValueError, ShapeError, UnitError
 from lowerlimb.stillness import StillPeriod, detect_still_period, gyro_bias
 
@@ -44,7 +44,7 @@ def check_signal(x: ArrayLike, name: str, unit: str, n: int | None = None) -> Fl
     Raises:
         ShapeError: wrong shape or a length different from ``n``.
         NonFiniteValueError: NaN or inf in the signal.
-        UnitError: a gyro that looks like deg/s.
+        UnitError: a gyro that looks like deg/s, an accelerometer that looks like g.
     """
     try:
         arr = np.asarray(x, dtype=float)
@@ -73,6 +73,16 @@ def check_signal(x: ArrayLike, name: str, unit: str, n: int | None = None) -> Fl
                 peak,
                 f"{name} values up to {peak:.0f} look like deg/s; the calibration expects "
                 f"rad/s (multiply by π/180)",
+            )
+    if unit == "m/s²" and arr.size:
+        step = max(1, arr.shape[0] // 2000)  # a subsample's median tells g from m/s²
+        median = float(np.median(np.linalg.norm(arr[::step], axis=1)))
+        if median < MIN_MEDIAN_ACC_MPS2:
+            raise UnitError(
+                name,
+                median,
+                f"{name} norms around {median:.2f} look like g; the calibration expects "
+                f"m/s² specific force, gravity included (multiply by 9.81)",
             )
     return np.ascontiguousarray(arr)
 

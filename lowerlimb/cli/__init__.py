@@ -63,20 +63,32 @@ def main(argv: Sequence[str] | None = None) -> int:
             raise UsageError(
                 f"no command given; choose {', '.join(COMMAND_MODULES)} (see 'lowerlimb --help')"
             )
+        # Before the command's heavy imports: Ctrl-C or SIGTERM from here on is recorded, and
+        # an interrupt swallowed by a third-party import is raised again before any output is
+        # committed (lowerlimb.io.interrupts).
+        from lowerlimb.io.interrupts import check_interrupted, install_signal_handlers
+
+        if _in_main_thread():
+            install_signal_handlers()
         with warnings.catch_warnings():
             warnings.simplefilter("default")
             # third-party deprecation notices (pyzmq via meshcat…) are not the user's business
             warnings.filterwarnings("ignore", category=DeprecationWarning)
             warnings.filterwarnings("ignore", category=PendingDeprecationWarning)
             warnings.filterwarnings("ignore", category=FutureWarning)
+            # numpy's floating-point notices ("invalid value encountered…") name no input and no
+            # fix; the checks refuse the inputs that cause them
+            warnings.filterwarnings("ignore", category=RuntimeWarning)
             warnings.formatwarning = _format_warning  # type: ignore[assignment]
+            check_interrupted()  # a signal swallowed while loading the command
             return COMMANDS[args.command](args)
     except (InputError, FileNotFoundError, IsADirectoryError, PermissionError) as e:
         print(f"lowerlimb: error: {_one_line(e)}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        print("lowerlimb: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as e:
+        signum = getattr(e, "signum", None)
+        print(f"lowerlimb: interrupted{f' ({e})' if signum else ''}", file=sys.stderr)
+        return 128 + (signum or 2)
     except Exception as e:  # a bug or a solver failure, not the user's input
         if os.environ.get("LOWERLIMB_DEBUG"):
             raise
@@ -87,6 +99,12 @@ def main(argv: Sequence[str] | None = None) -> int:
             file=sys.stderr,
         )
         return EXIT_INTERNAL
+
+
+def _in_main_thread() -> bool:
+    import threading
+
+    return threading.current_thread() is threading.main_thread()
 
 
 def _one_line(e: BaseException) -> str:

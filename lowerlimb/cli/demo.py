@@ -14,8 +14,8 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
     p.add_argument(
         "--out",
         type=Path,
-        default=Path("lowerlimb_demo"),
-        help="output directory (default: ./lowerlimb_demo)",
+        default=None,
+        help="output directory (default: a fresh ./lowerlimb_demo, ./lowerlimb_demo_2, …)",
     )
     p.add_argument("--duration", type=positive_float, default=30.0, help="walk length, s (default: 30)")
     p.add_argument("--seed", type=int, default=1, help="random seed (default: 1)")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from collections.abc import Callable
 from pathlib import Path
 
 from lowerlimb.cli._common import EXIT_OK, add_side, positive_float
@@ -46,14 +47,51 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         help="real: heel-strike impacts, wobbling tissue, skin motion, clock/scale errors (default: none)",
     )
     p.add_argument("--no-mag", action="store_true", help="omit magnetometer columns")
+    p.add_argument(
+        "--force", action="store_true", help="replace existing files (default: refuse to overwrite)"
+    )
+
+
+def check_arguments(args: argparse.Namespace) -> dict[str, Path]:
+    """Check every argument before simulating; return the files to write, named by option.
+
+    Raises:
+        InputError: an out-of-range duration, rate or seed, two targets naming the
+            same file, a missing or read-only folder, or an existing file without ``--force``.
+    """
+    from lowerlimb.io.atomic import check_new_files
+    from lowerlimb.io.bounds import INPUT_BOUNDS, check_range
+
+    b = INPUT_BOUNDS
+    check_range("--duration", args.duration, b.duration_s, "s", "the trial length")
+    check_range("--rate", args.rate, b.rate_hz, "Hz", "the sampling rate")
+    if args.duration * args.rate > b.max_samples:
+        raise InputError(
+            f"--duration {args.duration:g} s at --rate {args.rate:g} Hz makes "
+            f"{args.duration * args.rate:.3g} samples, more than {b.max_samples}; shorten the trial"
+        )
+    if not 0 <= args.seed <= b.max_seed:
+        raise InputError(f"--seed {args.seed} is out of range; give an integer from 0 to {b.max_seed}")
+    targets = {"--out": Path(args.out)}
+    if args.truth:
+        truth = Path(args.truth)
+        stem = truth.with_suffix("")
+        targets["--truth"] = truth
+        targets["--truth (its angles)"] = Path(f"{stem}_angles.csv")
+        targets["--truth (its positions)"] = Path(f"{stem}_positions.csv")
+    check_new_files(targets, overwrite=args.force)
+    return targets
 
 
 def run(args: argparse.Namespace) -> int:
-    """Simulate and write the trial CSV (and the truth files)."""
-    from lowerlimb.io.atomic import write_atomically, write_text
+    """Simulate and write the trial CSV (and the truth files), all or none, never overwriting unasked."""
+    from lowerlimb.io.atomic import write_files_atomically, write_text
+    from lowerlimb.io.interrupts import check_interrupted
     from lowerlimb.io.tables import write_angles_csv, write_positions_csv
     from lowerlimb.simulation import Artefacts, ImuNoise, simulate
 
+    targets = check_arguments(args)
+    check_interrupted()
     noise = ImuNoise() if args.noise == "realistic" else ImuNoise.none()
     sim = simulate(
         args.motion,
@@ -66,23 +104,16 @@ def run(args: argparse.Namespace) -> int:
         with_mag=not args.no_mag,
         artefacts=Artefacts.real_walk() if args.artefacts == "real" else None,
     )
-    for target in [args.out] + ([args.truth] if args.truth else []):
-        parent = Path(target).parent
-        if str(parent) and not parent.is_dir():
-            raise InputError(f"directory {parent} does not exist; create it or choose another path")
-    write_atomically(args.out, sim.trial.to_csv)
+    writers: dict[Path, Callable[[Path], None]] = {targets["--out"]: sim.trial.to_csv}
     if args.truth:
-        truth = Path(args.truth)
-        write_atomically(truth, lambda p: write_text(p, json.dumps(sim.truth, indent=2)))
-        stem = truth.with_suffix("")
-        write_atomically(
-            Path(f"{stem}_angles.csv"),
-            lambda p: write_angles_csv(p, sim.trial.time_s, sim.angles_rad),
+        writers[targets["--truth"]] = lambda p: write_text(p, json.dumps(sim.truth, indent=2))
+        writers[targets["--truth (its angles)"]] = lambda p: write_angles_csv(
+            p, sim.trial.time_s, sim.angles_rad
         )
-        write_atomically(
-            Path(f"{stem}_positions.csv"),
-            lambda p: write_positions_csv(p, sim.trial.time_s, sim.positions_m),
+        writers[targets["--truth (its positions)"]] = lambda p: write_positions_csv(
+            p, sim.trial.time_s, sim.positions_m
         )
+    write_files_atomically(writers, overwrite=args.force)
     print(
         f"wrote {args.out} ({sim.trial.n_samples} samples at {args.rate:g} Hz, {args.motion}, "
         f"{args.side} leg){' and ' + str(args.truth) if args.truth else ''}"

@@ -36,6 +36,31 @@ MIN_DURATION_S = 2.0
 TIME_JITTER_TOLERANCE = 0.25
 
 
+class IdenticalSensorsError(InputError):
+    """Two sensors hold identical data (one's columns copied into the other's)."""
+
+    def __init__(self, first: str, second: str) -> None:
+        self.first, self.second = first, second
+        super().__init__(
+            f"the {first} and {second} columns hold identical data; each sensor needs its own "
+            f"recording (check the column mapping of the export)"
+        )
+
+
+class NoMotionError(InputError):
+    """The trial holds no motion to calibrate the joints from; carries the gyro variation (rad/s)."""
+
+    def __init__(self, sensor: str, gyro_std_rps: float, required_rps: float) -> None:
+        self.sensor = sensor
+        self.gyro_std_rps = gyro_std_rps
+        self.required_rps = required_rps
+        super().__init__(
+            f"the trial holds no motion to calibrate from: the {sensor} angular rate varies by "
+            f"{gyro_std_rps:.3g} rad/s (at least {required_rps:g} rad/s needed); record a walk or "
+            f"the calibration motions, or reuse an earlier calibration with --calibration"
+        )
+
+
 class StandingStartWarning(UserWarning):
     """The trial does not start with ≥ 1 s standing still; the first second is the reference."""
 
@@ -150,6 +175,11 @@ class ImuTrial:
                     f"the trial format expects rad/s (multiply by π/180)",
                 )
             amed = float(np.median(np.linalg.norm(self.acc[sensor], axis=1)))
+            if not np.any(self.acc[sensor]):
+                raise InputError(
+                    f"the {sensor} accelerometer columns are all zero: the sensor recorded nothing; "
+                    f"check its columns in the export"
+                )
             if amed < MIN_MEDIAN_ACC_MPS2:
                 raise UnitError(
                     f"{sensor}_acc",
@@ -159,6 +189,30 @@ class ImuTrial:
                 )
         if self.duration_s < MIN_DURATION_S:
             raise TooShortError(self.duration_s, MIN_DURATION_S)
+        self._check_distinct_sensors()
+
+    def _check_distinct_sensors(self) -> None:
+        """Refuse two sensors with identical data: one sensor's columns copied into another's."""
+        for i, a in enumerate(SENSORS):
+            for b in SENSORS[i + 1 :]:
+                if np.array_equal(self.gyr[a], self.gyr[b]) and np.array_equal(self.acc[a], self.acc[b]):
+                    raise IdenticalSensorsError(a, b)
+
+    def check_motion(self, min_gyro_std_rps: float) -> None:
+        """Refuse a trial with no motion to calibrate from (still, or exactly constant).
+
+        Args:
+            min_gyro_std_rps: the least standard deviation of the angular-rate
+                magnitude of the thigh, shank and foot, rad/s
+                (:attr:`lowerlimb.io.bounds.InputBounds.min_motion_gyro_std_rps`).
+
+        Raises:
+            NoMotionError: naming the still sensor.
+        """
+        for sensor in SENSORS[1:]:
+            std = float(np.std(np.linalg.norm(self.gyr[sensor], axis=1)))
+            if not std >= min_gyro_std_rps:
+                raise NoMotionError(sensor, std, min_gyro_std_rps)
 
     def still_period(self) -> StillPeriod:
         """Detect the still run at the start of the recording, over every IMU.
@@ -209,50 +263,49 @@ class ImuTrial:
     # ------------------------------------------------------------ CSV
 
     @classmethod
-    def from_csv(cls, path: str | os.PathLike[str], side: str = "left") -> ImuTrial:
+    def from_csv(cls, path: str | os.PathLike[str], side: str = "left", *, use_mag: bool = True) -> ImuTrial:
         """Read and validate a trial CSV.
+
+        Args:
+            path: the trial CSV (docs/formats.md).
+            side: instrumented leg.
+            use_mag: read the magnetometer columns; when False they are ignored
+                (gaps or NaN in them are then no error).
 
         Raises:
             FileNotFoundError: when ``path`` does not exist.
-            InputError: any problem of :meth:`validate`, or a non-numeric cell.
+            InputError: a folder, a binary/compressed/non-UTF-8 file, another
+                separator than the comma, a duplicated column, a text cell, or
+                any problem of :meth:`validate`.
         """
         path = os.fspath(path)
+        if os.path.isdir(path):
+            raise InputError(f"{path} is a directory, not a trial CSV; give the trial file inside it")
         if not os.path.isfile(path):
             raise FileNotFoundError(f"trial file not found: {path}")
-        with open(path, newline="", encoding="utf-8-sig") as f:
-            reader = csv.reader(f)
-            try:
-                header = [h.strip() for h in next(reader)]
-            except StopIteration:
-                raise InputError(f"{path} is empty; give a trial CSV with a header row") from None
-        if "time" not in header:
-            raise MissingColumnError("time", header, path)
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                raw = np.genfromtxt(path, delimiter=",", skip_header=1, dtype=float, ndmin=2)
-        except ValueError as e:
-            raise InputError(f"{path} has rows of unequal length or bad cells ({e}); fix the CSV") from None
-        if raw.size == 0:
-            raise TooShortError(0.0, MIN_DURATION_S)
-        if raw.shape[1] != len(header):
-            raise InputError(
-                f"{path} has {raw.shape[1]} columns of data but {len(header)} header names; fix the header"
-            )
+        header = _read_header(path)
         col = {name: i for i, name in enumerate(header)}
+        names = ["time"]
+        for s in SENSORS:
+            names += column_names(s, "acc") + column_names(s, "gyr")
+        has_mag = use_mag and all(n in col for s in SENSORS for n in column_names(s, "mag"))
+        if has_mag:
+            names += [n for s in SENSORS for n in column_names(s, "mag")]
+        for n in names:
+            if n not in col:
+                raise MissingColumnError(n, header, path)
+        raw = _read_numbers(path, header, [col[n] for n in names])
+        if raw.shape[0] == 0:
+            raise TooShortError(0.0, MIN_DURATION_S)
+        k = {n: i for i, n in enumerate(names)}
 
         def block(sensor: str, signal: str) -> FloatArray:
-            names = column_names(sensor, signal)
-            for n in names:
-                if n not in col:
-                    raise MissingColumnError(n, header, path)
-            return np.ascontiguousarray(raw[:, [col[n] for n in names]])
+            return np.ascontiguousarray(raw[:, [k[n] for n in column_names(sensor, signal)]])
 
         acc = {s: block(s, "acc") for s in SENSORS}
         gyr = {s: block(s, "gyr") for s in SENSORS}
-        has_mag = all(n in col for s in SENSORS for n in column_names(s, "mag"))
         mag = {s: block(s, "mag") for s in SENSORS} if has_mag else None
-        trial = cls(raw[:, col["time"]].copy(), acc, gyr, mag, side, source=path)
+        trial = cls(raw[:, 0].copy(), acc, gyr, mag, side, source=path)
         trial.validate()
         return trial
 
@@ -284,3 +337,107 @@ class ImuTrial:
             comments="",
             fmt="%.9g",
         )
+
+
+#: The first bytes of files that are not text: gzip, zip, xlsx (zip), 7z, bzip2, xz.
+_BINARY_MAGIC = {
+    b"\x1f\x8b": "gzip-compressed",
+    b"PK\x03\x04": "a zip archive (or an Excel .xlsx file)",
+    b"7z\xbc\xaf": "a 7-Zip archive",
+    b"BZh": "bzip2-compressed",
+    b"\xfd7zXZ": "xz-compressed",
+}
+
+
+def _read_header(path: str) -> list[str]:
+    """The trial's header row, stripped; refuses binary, non-UTF-8 and non-comma files."""
+    with open(path, "rb") as f:
+        head = f.read(65536)
+    for magic, what in _BINARY_MAGIC.items():
+        if head.startswith(magic):
+            raise InputError(f"{path} is {what}, not a trial CSV; decompress or export it as CSV text")
+    if b"\x00" in head:
+        raise InputError(f"{path} is a binary file, not a trial CSV; export the recording as CSV text")
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as f:
+            line = f.readline()
+    except UnicodeDecodeError as e:
+        raise InputError(
+            f"{path} is not UTF-8 text (byte {e.object[e.start]:#04x} at offset {e.start}); "
+            f"save the trial CSV as UTF-8"
+        ) from None
+    if not line.strip():
+        raise InputError(f"{path} is empty; give a trial CSV with a header row")
+    header = [h.strip() for h in next(csv.reader([line]))]
+    if "time" not in header:
+        for sep, name in ((";", "semicolons"), ("\t", "tabs"), ("|", "vertical bars")):
+            if sep in line and len(line.split(sep)) > len(header):
+                raise InputError(
+                    f"{path} separates its columns with {name}, not commas (the decimal mark may be a "
+                    f"comma too); save it as a comma-separated CSV with '.' as the decimal mark"
+                )
+        raise MissingColumnError("time", header, path)
+    dup = sorted({h for h in header if header.count(h) > 1})
+    if dup:
+        raise InputError(
+            f"{path} has the column {dup[0]!r} {header.count(dup[0])} times"
+            f"{' (and ' + ', '.join(repr(d) for d in dup[1:]) + ')' if len(dup) > 1 else ''}; "
+            f"each column name must appear once"
+        )
+    return header
+
+
+def _read_numbers(path: str, header: list[str], usecols: list[int]) -> FloatArray:
+    """(N, len(usecols)) numbers of the data rows; a bad cell is named by row and column."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return np.loadtxt(
+                path, delimiter=",", skiprows=1, usecols=usecols, dtype=float, ndmin=2, encoding="utf-8-sig"
+            )
+    except UnicodeDecodeError as e:
+        raise InputError(
+            f"{path} is not UTF-8 text (byte {e.object[e.start]:#04x}); save the trial CSV as UTF-8"
+        ) from None
+    except ValueError:
+        pass
+    # the slow path, only to name the first bad cell
+    with open(path, newline="", encoding="utf-8-sig") as f:
+        reader = csv.reader(f)
+        next(reader)
+        for row_no, row in enumerate(reader, start=1):
+            if not row or all(not c.strip() for c in row):
+                continue
+            if len(row) != len(header):
+                raise InputError(
+                    f"{path} data row {row_no} has {len(row)} values but the header names "
+                    f"{len(header)} columns; fix the CSV"
+                )
+            for c in usecols:
+                cell = row[c].strip()
+                try:
+                    float(cell)
+                except ValueError:
+                    if not cell:
+                        raise InputError(
+                            f"column '{header[c]}' is empty at data row {row_no}; fill or cut the gap "
+                            f"before calibrating"
+                        ) from None
+                    if "," in cell or _is_comma_decimal(cell):
+                        raise InputError(
+                            f"column '{header[c]}' holds {cell!r} at data row {row_no}: a comma as decimal "
+                            f"mark; save the CSV with '.' as the decimal mark"
+                        ) from None
+                    raise InputError(
+                        f"column '{header[c]}' holds the text {cell[:40]!r} at data row {row_no}, not a "
+                        f"number; every cell of a trial must be a number"
+                    ) from None
+    raise InputError(f"{path} has rows of unequal length or bad cells; fix the CSV")
+
+
+def _is_comma_decimal(cell: str) -> bool:
+    try:
+        float(cell.replace(",", "."))
+    except ValueError:
+        return False
+    return True

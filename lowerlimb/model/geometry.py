@@ -20,6 +20,7 @@ from __future__ import annotations
 import io
 import os
 from dataclasses import dataclass, field, replace
+from xml.etree import ElementTree
 
 import numpy as np
 import yourdfpy
@@ -73,6 +74,41 @@ def transform(R: object, p: object) -> FloatArray:
     T[:3, :3] = np.asarray(R, dtype=float)
     T[:3, 3] = np.asarray(p, dtype=float)
     return T
+
+
+#: Numbers smaller than this in a URDF are written as 0 (round-off such as -3e-18), m or rad.
+URDF_ZERO_BELOW = 1e-12
+#: Significant digits of the numbers in a URDF (relative 1e-12: far below the 1e-9 m round trip).
+URDF_DIGITS = 12
+
+
+def _format_number(text: str) -> str:
+    """One URDF attribute number: near-zeros and ``-0.0`` as ``0``, else ``URDF_DIGITS`` digits."""
+    x = float(text)
+    if abs(x) < URDF_ZERO_BELOW:
+        return "0"
+    return f"{x:.{URDF_DIGITS}g}"
+
+
+def pretty_urdf(text: str) -> str:
+    """Indent a URDF, one element per line, with round-off near-zeros written as 0.
+
+    Args:
+        text: URDF XML.
+
+    Returns:
+        The same robot, pretty-printed, with an XML declaration.
+    """
+    root = ElementTree.fromstring(text.split("?>", 1)[1] if text.lstrip().startswith("<?xml") else text)
+    for element in root.iter():
+        for key, value in element.attrib.items():
+            parts = value.split()
+            try:
+                element.attrib[key] = " ".join(_format_number(p) for p in parts) if parts else value
+            except ValueError:
+                continue  # a name, not numbers
+    ElementTree.indent(root, space="  ")
+    return '<?xml version="1.0" encoding="utf-8"?>\n' + ElementTree.tostring(root, encoding="unicode") + "\n"
 
 
 @dataclass
@@ -248,7 +284,7 @@ class LegGeometry:
         text = raw.decode("utf-8") if isinstance(raw, bytes) else str(raw)
         # MuJoCo merges fixed links (the IMUs, the pelvis) into their parents unless told not to
         end = text.rfind("</robot>")
-        return text[:end] + MUJOCO_COMPILER + text[end:]
+        return pretty_urdf(text[:end] + MUJOCO_COMPILER + text[end:])
 
     def write_urdf(self, path: str | os.PathLike[str]) -> None:
         """Write the URDF to ``path``."""

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import os
 import subprocess
+import sys
 import time
 import warnings
 import webbrowser
@@ -30,6 +31,7 @@ from ..conventions import ANGLE_COLUMNS, FloatArray
 from ..errors import InputError
 from ..io.tables import read_table
 from ..model.leg_model import LegModel
+from .meshcat_server import DEFAULT_HOST
 from .scene import DEFAULT_FPS, CommandRecorder, LegScene, draw_leg, live_visualizer
 
 if TYPE_CHECKING:
@@ -88,7 +90,8 @@ class ViewSession:
     server: subprocess.Popen[bytes] | None = field(default=None, repr=False)
 
     def close(self) -> None:
-        """Stop the meshcat server this session started (no-op otherwise)."""
+        """Close the connection and stop the meshcat server this session started."""
+        _close_visualizer(self.animation.visualizer)
         _stop(self.server)
         self.server = None
 
@@ -174,12 +177,72 @@ def build_animation(
     return LegAnimation(data, vis, scene, recorder)
 
 
+def start_server(
+    host: str = DEFAULT_HOST, *, timeout_s: float = 60.0
+) -> tuple[subprocess.Popen[bytes], str, str]:
+    """Start a meshcat server bound to ``host`` (:mod:`lowerlimb.viz.meshcat_server`).
+
+    Returns:
+        ``(process, zmq_url, web_url)``.
+
+    Raises:
+        RuntimeError: the server exited or printed no URL within ``timeout_s``.
+    """
+    process = subprocess.Popen(
+        [sys.executable, "-u", "-m", "lowerlimb.viz.meshcat_server", "--host", host],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        stdin=subprocess.DEVNULL,
+        start_new_session=True,  # the terminal's Ctrl-C goes to the view, which stops the server
+    )
+    urls: dict[str, str] = {}
+    deadline = time.monotonic() + timeout_s
+    try:
+        assert process.stdout is not None
+        while len(urls) < 2:
+            line = process.stdout.readline().decode("utf-8", "replace").strip()
+            if not line and process.poll() is not None:
+                raise RuntimeError(f"the meshcat server exited with status {process.returncode}")
+            if "=" in line:
+                key, value = line.split("=", 1)
+                urls[key] = value
+            if time.monotonic() > deadline:
+                raise RuntimeError("the meshcat server printed no URL")
+    except BaseException:
+        _stop(process)
+        raise
+    return process, urls["zmq_url"], urls["web_url"]
+
+
+def _visualizer(zmq_url: str, web_url: str) -> meshcat.Visualizer:
+    """A visualizer on a running server, connected once and silently.
+
+    meshcat's own constructor connects twice (leaking a socket) and prints the URL.
+    """
+    import meshcat
+    from meshcat.visualizer import ViewerWindow
+
+    window = ViewerWindow.__new__(ViewerWindow)
+    window.server_proc = None
+    window.zmq_url = zmq_url
+    window.web_url = web_url
+    window.connect_zmq()
+    return meshcat.Visualizer(window=window)
+
+
+def _close_visualizer(vis: meshcat.Visualizer | None) -> None:
+    socket = getattr(getattr(vis, "window", None), "zmq_socket", None)
+    if socket is not None and not socket.closed:
+        socket.close(linger=0)
+
+
 def serve(
     directory: str | os.PathLike[str],
     *,
     zmq_url: str | None = None,
     open_browser: bool = False,
     fps: float = DEFAULT_FPS,
+    host: str = DEFAULT_HOST,
 ) -> ViewSession:
     """Start a meshcat server (or connect to ``zmq_url``) and show the animated leg; returns at once.
 
@@ -188,6 +251,7 @@ def serve(
         zmq_url: an already running meshcat server; by default one is started.
         open_browser: open the page in the default web browser.
         fps: animation frame rate, Hz.
+        host: address the started server binds to (default: localhost only).
 
     Returns:
         The session; call :meth:`ViewSession.close` to stop the server.
@@ -196,11 +260,17 @@ def serve(
         InputError: see :func:`load_view_data` (checked before any server starts).
     """
     load_view_data(directory)  # fail before starting a server
-    vis = live_visualizer(zmq_url)
-    server = getattr(vis.window, "server_proc", None)
+    server = None
+    vis = None
     try:
+        if zmq_url is None:
+            server, zmq_url, web_url = start_server(host)
+            vis = _visualizer(zmq_url, web_url)
+        else:
+            vis = live_visualizer(zmq_url)
         animation = build_animation(directory, vis, fps=fps)
     except BaseException:
+        _close_visualizer(vis)
         _stop(server)
         raise
     session = ViewSession(url=str(vis.url()), animation=animation, server=server)
@@ -209,17 +279,20 @@ def serve(
     return session
 
 
-def run_view(directory: str | os.PathLike[str], *, open_browser: bool = False) -> None:
-    """``lowerlimb view DIR``: serve the animated leg and print its URL until Ctrl-C.
+def run_view(
+    directory: str | os.PathLike[str], *, open_browser: bool = False, host: str = DEFAULT_HOST
+) -> None:
+    """``lowerlimb view DIR``: serve the animated leg and print its URL until Ctrl-C or SIGTERM.
 
     Args:
         directory: output directory of ``lowerlimb calibrate``.
         open_browser: also open the page in the default web browser.
+        host: address the server binds to (default: localhost only).
 
     Raises:
         InputError: when the directory lacks ``calibrated.urdf`` or ``angles.csv``.
     """
-    session = serve(directory, open_browser=open_browser)
+    session = serve(directory, open_browser=open_browser, host=host)
     try:
         scene = session.animation.scene
         print(
@@ -237,8 +310,12 @@ def run_view(directory: str | os.PathLike[str], *, open_browser: bool = False) -
 
 
 def _stop(process: subprocess.Popen[bytes] | None) -> None:
-    """Terminate a server process we started, and reap it."""
-    if process is None or process.poll() is not None:
+    """Terminate a server process we started, reap it and close its pipe."""
+    if process is None:
+        return
+    if process.stdout is not None:
+        process.stdout.close()
+    if process.poll() is not None:
         return
     process.terminate()
     try:
