@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from lowerlimb.cli._common import EXIT_OK, add_side, positive_float
+from lowerlimb.export.formats import EXPORT_FORMATS
 from lowerlimb.methods import CALIBRATION_METHODS, ORIENTATION_FILTERS
 
 
@@ -52,6 +53,22 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         help="fitted time-varying segment-to-joint model (Lee & Lee 2022 M2/M3) for these sensor "
         "placements; default: constant vectors from this calibration",
     )
+    p.add_argument(
+        "--export",
+        action="append",
+        choices=tuple(EXPORT_FORMATS),
+        default=[],
+        help="also write: "
+        + "; ".join(f"{k}: {v}" for k, v in EXPORT_FORMATS.items())
+        + " (repeat for several)",
+    )
+    p.add_argument(
+        "--reference",
+        type=Path,
+        metavar="REFERENCE.csv",
+        help="reference CSV ('time' in s and columns named as in angles.csv (deg) / positions.csv (m)); "
+        "adds its agreement (RMSE, bias, limits of agreement, r, CMC, Bland-Altman plots) to report.html",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -70,6 +87,8 @@ def run(args: argparse.Namespace) -> int:
             use_mag=not args.no_mag,
             calibration=args.calibration,
             s2j=args.s2j,
+            exports=tuple(args.export),
+            reference=args.reference,
         )
     )
     return EXIT_OK
