@@ -1,4 +1,4 @@
-"""``calibrate --export opensim|bids``, the units sidecars, ``--reference`` and ``TrialResult.to_dataframe``."""
+"""calibrate --export opensim/bids, units sidecars, --reference and TrialResult.to_dataframe()."""
 
 import csv
 import json
