@@ -297,12 +297,13 @@ def to_markdown(res: dict[str, Any]) -> str:
         f"pose), base heading axis `{res['base_heading_axis']}` of the pelvis IMU, then "
         "IMUInverseKinematicsTool on the whole trial.",
         "",
-        "| side | joint | method | RMSE ° | bias ° | 95 % LoA ° | r | CMC |",
-        "|---|---|---|---|---|---|---|---|",
+        "| side | joint | method | RMSE ° | bias ° | SD ° | 95 % LoA ° | r | CMC |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in res["rows"]:
         lines.append(
             f"| {r['side']} | {r['joint']} | {r['method']} | {r['rmse']:.1f} | {r['bias']:+.1f} | "
+            f"{r['sd_diff']:.1f} | "
             f"{r['loa_lower']:+.1f} … {r['loa_upper']:+.1f} | {r['pearson_r']:.3f} | {_f(r['cmc'])} |"
         )
     ref = res["issue_reference"]
@@ -326,12 +327,25 @@ def to_markdown(res: dict[str, Any]) -> str:
         lines.append(f"| {label} | {t[f'opensense_{key}_placer_s']:.1f} + {t[f'opensense_{key}_ik_s']:.1f} |")
     lines += [
         "",
+        "Knee flexion RMSE, left / right: "
+        + "; ".join(
+            f"{m} {_knee(res, m, 'left'):.1f} / {_knee(res, m, 'right'):.1f}°"
+            for m in ("OpenSense + Xsens orientations", "OpenSense + our orientations", "lowerlimb angles")
+        )
+        + ".",
+        "",
         f"Issue 13's reference: OpenSense with Xsens orientations, knee RMSE {ref['knee_rmse_deg'][0]}–"
         f"{ref['knee_rmse_deg'][1]}°, {ref['wall_s']:.0f} s for the {ref['trial_s']:.0f} s trial. "
         f"Magnetometer fused by lowerlimb: {res['magnetometer_used']}.",
         "",
     ]
     return "\n".join(lines)
+
+
+def _knee(res: dict[str, Any], method: str, side: str) -> float:
+    return float(
+        next(r["rmse"] for r in res["rows"] if (r["method"], r["side"], r["joint"]) == (method, side, "knee"))
+    )
 
 
 def _f(v: float | None) -> str:
