@@ -151,10 +151,11 @@ def run_opensense(
     time_range: tuple[float, float],
 ) -> dict[str, Any]:
     """Placer + IK in a subprocess; the runner's JSON plus the subprocess wall time."""
+    out_dir = out_dir.resolve()
     config = {
-        "model": str(model),
-        "calibration_sto": str(calib),
-        "orientations_sto": str(trial),
+        "model": str(model.resolve()),
+        "calibration_sto": str(calib.resolve()),
+        "orientations_sto": str(trial.resolve()),
         "out_dir": str(out_dir),
         "base_heading_axis": axis,
         "time_range": list(time_range),
@@ -162,7 +163,10 @@ def run_opensense(
     cfg = out_dir.with_suffix(".json")
     cfg.write_text(json.dumps(config), encoding="utf-8")
     t0 = time.perf_counter()
-    proc = subprocess.run([python, str(RUNNER), str(cfg)], capture_output=True, text=True, check=False)
+    out_dir.mkdir(parents=True, exist_ok=True)  # OpenSim writes opensim.log into its working directory
+    proc = subprocess.run(
+        [python, str(RUNNER), str(cfg)], capture_output=True, text=True, check=False, cwd=out_dir
+    )
     wall = time.perf_counter() - t0
     if proc.returncode != 0:
         raise RuntimeError(f"OpenSense failed ({proc.returncode}): {proc.stderr.strip()[-2000:]}")
