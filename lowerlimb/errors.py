@@ -100,3 +100,22 @@ class SolverError(LowerLimbError, RuntimeError):
         self.method = method
         self.x = x
         super().__init__(message)
+
+
+class MissingDependencyError(LowerLimbError, ImportError):
+    """An optional dependency a feature needs is not installed.
+
+    Attributes:
+        package: the missing distribution (``"pandas"``).
+        feature: what needs it.
+        extra: the ``lowerlimb[<extra>]`` that installs it.
+    """
+
+    def __init__(self, package: str, feature: str, extra: str) -> None:
+        self.package = package
+        self.feature = feature
+        self.extra = extra
+        super().__init__(
+            f"{feature} needs {package}, which is not installed; "
+            f"pip install '{package}' (or 'lowerlimb[{extra}]')"
+        )

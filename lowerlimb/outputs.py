@@ -1,8 +1,9 @@
 """The result folder of ``lowerlimb calibrate``: writing it all at once, and loading it back.
 
 The folder's files are specified in ``docs/formats.md``: ``calibration.json``,
-``angles.csv``, ``positions.csv``, ``s2j.json``, ``calibrated.urdf`` and
-``report.html``. :func:`write_result` stages them in a hidden sibling folder
+``angles.csv``, ``positions.csv`` (with their units sidecars), ``s2j.json``,
+``calibrated.urdf`` and ``report.html``, plus the exports asked for
+(``docs/exports.md``). :func:`write_result` stages them in a hidden sibling folder
 and renames it into place, so a failure never leaves a partial folder.
 :func:`run_calibrate` is the whole command in typed form: the CLI only parses
 its arguments into :class:`CalibrateOptions`.
@@ -14,16 +15,20 @@ import hashlib
 import json
 import sys
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from .agreement.comparison import Comparison
+from .agreement.report import agreement_section_html, compare_result, read_reference
 from .calibration import LegCalibration
 from .calibration.options import CalibrationOptions, check_method
 from .conventions import FloatArray, check_side
 from .errors import InputError
+from .export.result import check_export_formats, write_exports, write_units_sidecars
 from .io.atomic import check_new_directory, populate_directory
 from .io.bounds import INPUT_BOUNDS, InputBounds, check_range, check_vectors
 from .io.interrupts import check_interrupted
@@ -60,6 +65,9 @@ def write_outputs(
     truth_angles_rad: FloatArray | None = None,
     truth_positions_m: FloatArray | None = None,
     provenance: dict[str, Any] | None = None,
+    exports: Sequence[str] = (),
+    agreement: Comparison | None = None,
+    reference_name: str = "",
 ) -> None:
     """Write every output of a processed trial (docs/formats.md) into ``directory``.
 
@@ -69,6 +77,9 @@ def write_outputs(
         truth_angles_rad: (N, 9) known angles (simulations) to overlay in the report.
         truth_positions_m: (N, 6) known positions to overlay in the report.
         provenance: calibration.json's ``provenance`` (:func:`build_provenance`).
+        exports: export formats (:data:`lowerlimb.export.formats.EXPORT_FORMATS`) to add.
+        agreement: a comparison with a reference, shown in the report.
+        reference_name: the reference file's name, for the report.
     """
     d = result.calibration_dict()
     if provenance is not None:
@@ -78,20 +89,49 @@ def write_outputs(
     (directory / "calibration.json").write_text(json.dumps(d, indent=2), encoding="utf-8")
     write_angles_csv(directory / "angles.csv", result.trial.time_s, result.angles_rad)
     write_positions_csv(directory / "positions.csv", result.trial.time_s, result.positions_m)
+    write_units_sidecars(directory)
+    write_exports(result, directory, exports)
     (directory / S2J_SIDECAR).write_text(json.dumps(result.s2j.to_dict(), indent=1), encoding="utf-8")
     (directory / "calibrated.urdf").write_text(
         urdf_with_sidecar(result.model.to_urdf_string()), encoding="utf-8"
     )
-    _write_report(result, directory, d, truth_angles_rad, truth_positions_m)
+    sections = [] if agreement is None else [agreement_section_html(agreement, reference_name)]
+    _write_report(result, directory, d, truth_angles_rad, truth_positions_m, sections)
 
 
-def write_result(result: TrialResult, out: Path, *, provenance: dict[str, Any] | None = None) -> None:
+def write_result(
+    result: TrialResult,
+    out: Path,
+    *,
+    provenance: dict[str, Any] | None = None,
+    exports: Sequence[str] = (),
+    agreement: Comparison | None = None,
+    reference_name: str = "",
+) -> None:
     """Create the folder ``out`` holding every output of ``result``, or nothing at all.
+
+    Args:
+        result: the processed trial.
+        out: the folder to create.
+        provenance: calibration.json's ``provenance`` (:func:`build_provenance`).
+        exports: export formats to add (:func:`write_outputs`).
+        agreement: a comparison with a reference, shown in the report.
+        reference_name: the reference file's name, for the report.
 
     Raises:
         InputError: ``out`` exists and is not empty, or its parent does not exist.
     """
-    populate_directory(out, lambda d: write_outputs(result, d, provenance=provenance))
+    populate_directory(
+        out,
+        lambda d: write_outputs(
+            result,
+            d,
+            provenance=provenance,
+            exports=exports,
+            agreement=agreement,
+            reference_name=reference_name,
+        ),
+    )
 
 
 def urdf_with_sidecar(urdf: str) -> str:
@@ -126,6 +166,7 @@ def _write_report(
     calibration: dict[str, Any],
     truth_angles_rad: FloatArray | None = None,
     truth_positions_m: FloatArray | None = None,
+    extra_sections: Sequence[str] = (),
 ) -> None:
     from .viz.report import write_report
 
@@ -138,6 +179,7 @@ def _write_report(
         calibration=calibration,
         truth_angles_rad=truth_angles_rad,
         truth_positions_m=truth_positions_m,
+        extra_sections=extra_sections,
     )
 
 
@@ -158,6 +200,9 @@ class CalibrateOptions:
         s2j: a fitted S2J model (``s2j.json``) instead of the constant vectors.
         side_check: refuse a trial whose calibrated hip is on the other side.
         order_check: refuse a trial whose sensor columns look swapped.
+        exports: extra formats to write (``"opensim"``, ``"bids"``; docs/exports.md).
+        reference: a reference CSV (``time`` and columns named as ours, deg / m) whose
+            agreement with the result goes into ``report.html``.
     """
 
     trial: Path
@@ -172,6 +217,8 @@ class CalibrateOptions:
     s2j: Path | None = None
     side_check: bool = True
     order_check: bool = True
+    exports: tuple[str, ...] = ()
+    reference: Path | None = None
 
 
 def check_options(options: CalibrateOptions, bounds: InputBounds = INPUT_BOUNDS) -> None:
@@ -202,8 +249,9 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
     writes the folder at once.
 
     Raises:
-        InputError: bad trial, bad options, or an existing non-empty output folder.
-        FileNotFoundError: the trial, calibration or S2J file does not exist.
+        InputError: bad trial, bad options, a reference that shares no column or time with
+            the result, or an existing non-empty output folder.
+        FileNotFoundError: the trial, calibration, S2J or reference file does not exist.
     """
     out = Path(options.out)
     check_options(options)
@@ -219,6 +267,8 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
         trial.check_motion(INPUT_BOUNDS.min_motion_gyro_std_rps)
     provenance = build_provenance(options)
     check_interrupted()
+    exports = check_export_formats(options.exports)
+    reference = None if options.reference is None else read_reference(options.reference)
     print(
         f"calibrating {options.trial} ({trial.n_samples} samples at {trial.rate_hz:.4g} Hz, "
         f"{trial.duration_s:.1f} s, {trial.side} leg, method {options.method}, filter {options.filter_name})",
@@ -240,7 +290,17 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
             side_check=options.side_check,
         )
     _print_warnings(caught)
-    write_result(result, out, provenance=provenance)
+    agreement = None
+    if reference is not None:
+        agreement = compare_result(result.trial.time_s, result.angles_rad, result.positions_m, reference)
+    write_result(
+        result,
+        out,
+        provenance=provenance,
+        exports=exports,
+        agreement=agreement,
+        reference_name=str(options.reference or ""),
+    )
     cal = result.calibration
     if options.calibration is not None:
         print(

@@ -98,6 +98,20 @@ class TrialResult:
         """(N, 9) ISB joint angles, rad."""
         return self.motion.angles_rad
 
+    def to_dataframe(self) -> Any:
+        """Angles (deg) and positions (m) as a ``pandas.DataFrame`` indexed by time (s).
+
+        Columns as ``angles.csv`` then ``positions.csv``; ``df.attrs["units"]`` maps
+        every column (and ``"time"``, the index) to its unit
+        (:func:`lowerlimb.io.dataframe.motion_dataframe`).
+
+        Raises:
+            MissingDependencyError: pandas is not installed (``pip install 'lowerlimb[pandas]'``).
+        """
+        from .io.dataframe import motion_dataframe
+
+        return motion_dataframe(self.trial.time_s, self.angles_rad, self.positions_m)
+
     def calibration_dict(self) -> dict[str, Any]:
         """calibration.json content: the docs/formats.md schema plus segment frames and diagnostics."""
         d = self.calibration.to_dict()

@@ -29,6 +29,7 @@ def test_every_output_is_written(calibrated):
     _, out = calibrated
     assert sorted(p.name for p in out.iterdir()) == sorted(
         ["calibration.json", "angles.csv", "positions.csv", "calibrated.urdf", "report.html", "s2j.json"]
+        + ["angles.units.json", "positions.units.json"]
     )
     cal = json.loads((out / "calibration.json").read_text())
     assert cal["format"] == "lowerlimb-calibration/1" and cal["side"] == "right" and cal["method"] == "casadi"

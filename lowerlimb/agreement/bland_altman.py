@@ -5,13 +5,14 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Sequence
+from typing import BinaryIO
 
 from .comparison import PairedSeries
 from .statistics import QuantityAgreement
 
 
 def plot_bland_altman(
-    path: str | os.PathLike[str],
+    path: str | os.PathLike[str] | BinaryIO,
     stats: Sequence[QuantityAgreement],
     series: Sequence[PairedSeries],
     *,
@@ -27,7 +28,7 @@ def plot_bland_altman(
     without pyplot, so no display and no global state are touched.
 
     Args:
-        path: PNG file to write.
+        path: PNG file to write, or a binary file object.
         stats: statistics per quantity (the lines).
         series: the paired values per quantity (the points), same order.
         title: figure title.
@@ -62,4 +63,4 @@ def plot_bland_altman(
         axes[k // cols][k % cols].set_visible(False)
     if title:
         fig.suptitle(title)
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, format="png")

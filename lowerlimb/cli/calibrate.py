@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from lowerlimb.cli._common import EXIT_OK, add_side, positive_float
+from lowerlimb.export.formats import EXPORT_FORMATS
 from lowerlimb.methods import CALIBRATION_METHODS, ORIENTATION_FILTERS
 
 
@@ -63,6 +64,22 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         action="store_true",
         help="do not refuse a trial whose thigh/shank or shank/foot columns look swapped",
     )
+    p.add_argument(
+        "--export",
+        action="append",
+        choices=tuple(EXPORT_FORMATS),
+        default=[],
+        help="also write: "
+        + "; ".join(f"{k}: {v}" for k, v in EXPORT_FORMATS.items())
+        + " (repeat for several)",
+    )
+    p.add_argument(
+        "--reference",
+        type=Path,
+        metavar="REFERENCE.csv",
+        help="reference CSV ('time' in s and columns named as in angles.csv (deg) / positions.csv (m)); "
+        "adds its agreement (RMSE, bias, limits of agreement, r, CMC, Bland-Altman plots) to report.html",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -83,6 +100,8 @@ def run(args: argparse.Namespace) -> int:
             s2j=args.s2j,
             side_check=not args.no_side_check,
             order_check=not args.no_order_check,
+            exports=tuple(args.export),
+            reference=args.reference,
         )
     )
     return EXIT_OK

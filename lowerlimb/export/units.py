@@ -13,9 +13,10 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from ..errors import InputError
+from ..io.tables import ANGLE_UNIT, POSITION_UNIT, TIME_UNIT
 
 #: Unit of every non-time column, per table kind.
-TABLE_UNITS: dict[str, str] = {"angles": "deg", "positions": "m"}
+TABLE_UNITS: dict[str, str] = {"angles": ANGLE_UNIT, "positions": POSITION_UNIT}
 #: What the values of each table kind are.
 TABLE_DESCRIPTIONS: dict[str, str] = {
     "angles": "ISB joint angles, Z-X-Y (flexion, adduction, internal rotation), clinical signs, "
@@ -32,7 +33,7 @@ def table_units(columns: Sequence[str], kind: str) -> dict[str, str]:
     """
     if kind not in TABLE_UNITS:
         raise InputError(f"table kind must be one of {', '.join(TABLE_UNITS)}, got {kind!r}")
-    return {c: ("s" if c == "time" else TABLE_UNITS[kind]) for c in columns}
+    return {c: (TIME_UNIT if c == "time" else TABLE_UNITS[kind]) for c in columns}
 
 
 def write_units_sidecar(

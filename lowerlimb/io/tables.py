@@ -9,6 +9,13 @@ import numpy as np
 from ..conventions import ANGLE_COLUMNS, POSITION_COLUMNS, FloatArray
 from ..errors import InputError
 
+#: Unit of the ``time`` column of every output table.
+TIME_UNIT = "s"
+#: Unit of every ``angles.csv`` column but time.
+ANGLE_UNIT = "deg"
+#: Unit of every ``positions.csv`` column but time (pelvis sensor frame).
+POSITION_UNIT = "m"
+
 
 def write_angles_csv(path: str | os.PathLike[str], time_s: FloatArray, angles_rad: FloatArray) -> None:
     """Write ``angles.csv``: time (s) and the 9 ISB joint angles in DEGREES.

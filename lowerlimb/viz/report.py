@@ -11,7 +11,9 @@ The page holds, with nothing fetched from the network:
 - the excitation warnings of the calibration;
 - plots of the 9 ISB joint angles (deg) and the two relative-position vectors
   (mm) as inline PNG images, with the truth overlaid and RMS errors tabled
-  when the truth is given (simulated trials).
+  when the truth is given (simulated trials);
+- extra sections given by the caller (``calibrate --reference``: the agreement
+  with a reference, built by :mod:`lowerlimb.agreement.report`).
 
 A 60 s walk at 100 Hz gives a file of about 2.4 MB (meshcat's JavaScript is
 0.85 MB; the animation is capped at :data:`MAX_ANIMATION_FRAMES` frames).
@@ -55,6 +57,7 @@ def write_report(
     truth_angles_rad: FloatArray | None = None,
     truth_positions_m: FloatArray | None = None,
     title: str = "lowerlimb calibration report",
+    extra_sections: Sequence[str] = (),
 ) -> None:
     """Write ``report.html``: 3-D leg, calibration table, warnings, angle and position plots.
 
@@ -72,6 +75,9 @@ def write_report(
         truth_angles_rad: optional (N, 9) true angles, rad, overlaid and compared.
         truth_positions_m: optional (N, 6) true positions, m, overlaid and compared.
         title: page title and heading.
+        extra_sections: HTML fragments appended after the plots, as given (trusted
+            markup from the library, e.g. the agreement section of
+            :mod:`lowerlimb.agreement.report`).
 
     Raises:
         ShapeError: when an array does not have the shape given above.
@@ -95,6 +101,7 @@ def write_report(
         truth_angles_rad=truth_a,
         truth_positions_m=truth_p,
         title=title,
+        extra_sections=extra_sections,
     )
     with open(path, "w", encoding="utf-8") as f:
         f.write(page)
@@ -110,6 +117,7 @@ def render_report(
     truth_angles_rad: FloatArray | None = None,
     truth_positions_m: FloatArray | None = None,
     title: str = "lowerlimb calibration report",
+    extra_sections: Sequence[str] = (),
 ) -> str:
     """The HTML text of :func:`write_report` (arguments as there, already checked)."""
     recorder = CommandRecorder()
@@ -174,6 +182,7 @@ def render_report(
     if truth_positions_m is not None:
         err = _rms(1000.0 * (positions_m - truth_positions_m))
         parts.append(_error_table("RMS error against the truth (mm)", _POSITION_NAMES, err, 1))
+    parts += list(extra_sections)
     parts.append(f"<footer>lowerlimb {_e(__version__)}</footer>")
     body = "\n".join(p for p in parts if p)
     return f"""<!DOCTYPE html>
