@@ -32,7 +32,7 @@ def run(name: str, tmp_path: Path) -> tuple[object, Path]:
 def test_every_demo_is_listed_and_documented() -> None:
     readme = (DEMOS / "README.md").read_text(encoding="utf-8")
     scripts = sorted(p for p in DEMOS.glob("*.py") if not p.name.startswith("_"))
-    assert len(scripts) == 5
+    assert len(scripts) == 6
     for script in scripts:
         assert f"python demos/{script.name}" in readme
         doc = load(script.stem).__doc__
@@ -84,3 +84,18 @@ def test_inverse_dynamics(tmp_path: Path) -> None:
     assert true_angles["knee_percent"] <= 5.0
     estimated = next(v for k, v in result.items() if "estimated angles" in k)
     assert max(estimated.values()) <= 5.0
+
+
+def test_inverse_dynamics_both_legs(tmp_path: Path) -> None:
+    result, out = run("inverse_dynamics_both_legs", tmp_path)
+    assert isinstance(result, dict)
+    assert (out / "lower_body.urdf").is_file()
+    # the ISB y-up single leg under default gravity vs the z-up lower body (REP 103)
+    assert result["phantom_hip_torque_single_leg_isb_Nm"] > 40.0
+    assert result["phantom_hip_torque_lower_body_Nm"] < 1.0
+    # the split ground reaction balances the whole body in every contact sample
+    assert result["base_residual_without_grf_N"] > 500.0
+    assert result["base_residual_with_grf_N"] < 1e-6
+    assert 5.0 < result["double_support_pct"] < 40.0
+    # the right leg walks the left leg's gait: symmetric peak moments
+    assert result["hip_flexion_si_pct"] < 15.0 and result["knee_flexion_si_pct"] < 15.0

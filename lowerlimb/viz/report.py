@@ -58,6 +58,7 @@ def write_report(
     truth_positions_m: FloatArray | None = None,
     title: str = "lowerlimb calibration report",
     extra_sections: Sequence[str] = (),
+    gait_html: str = "",
 ) -> None:
     """Write ``report.html``: 3-D leg, calibration table, warnings, angle and position plots.
 
@@ -78,6 +79,10 @@ def write_report(
         extra_sections: HTML fragments appended after the plots, as given (trusted
             markup from the library, e.g. the agreement section of
             :mod:`lowerlimb.agreement.report`).
+        gait_html: optional HTML section shown after the joint-angle time plots, e.g.
+            the gait-cycle curves and parameter table of
+            :func:`lowerlimb.viz.gait_curves.gait_report_section` (readable where a long
+            trial's time plots are a solid block).
 
     Raises:
         ShapeError: when an array does not have the shape given above.
@@ -102,6 +107,7 @@ def write_report(
         truth_positions_m=truth_p,
         title=title,
         extra_sections=extra_sections,
+        gait_html=gait_html,
     )
     with open(path, "w", encoding="utf-8") as f:
         f.write(page)
@@ -118,6 +124,7 @@ def render_report(
     truth_positions_m: FloatArray | None = None,
     title: str = "lowerlimb calibration report",
     extra_sections: Sequence[str] = (),
+    gait_html: str = "",
 ) -> str:
     """The HTML text of :func:`write_report` (arguments as there, already checked)."""
     recorder = CommandRecorder()
@@ -173,6 +180,7 @@ def render_report(
     if truth_angles_rad is not None:
         err = _rms(np.rad2deg(angles_rad - truth_angles_rad))
         parts.append(_error_table("RMS error against the truth (deg)", _ANGLE_NAMES, err, 2))
+    parts.append(gait_html)
     parts += [
         "<h2>Relative positions</h2>",
         "<p class='note'>Pelvis sensor → foot sensor and hip centre → ankle centre, in the "
