@@ -188,9 +188,10 @@ def markdown(res: dict[str, Any]) -> str:
         return "\n".join(L + [f"Fails: {res.get('error')}", ""])
     g = res["goals"]
     L += [
-        f"Goals (issue 11): both legs calibrate; segment lengths within {g['length_mm']:.0f} mm; stride length "
-        f"within {g['stride_length_pct']:.0f} %, step width within {g['step_width_mm']:.0f} mm of the Vicon ankle "
-        "centres. Knee flexion zeroed on frames 200–1000, RMSE over 1120–2074.",
+        f"Goals (issue 11): both legs calibrate; segment lengths within {g['length_mm']:.0f} mm; "
+        f"stride length within {g['stride_length_pct']:.0f} %, step width within "
+        f"{g['step_width_mm']:.0f} mm of the Vicon ankle centres. "
+        "Knee flexion zeroed on frames 200–1000, RMSE over 1120–2074.",
         "",
         "| side | thigh mm (Vicon, err) | shank mm (Vicon, err) | knee flexion RMSE ° |",
         "|---|---|---|---|",
@@ -219,8 +220,8 @@ def markdown(res: dict[str, Any]) -> str:
         f"({h['spacing_err_mm']:+.0f} mm), de Leva {h['de_leva_mm']:.0f} mm; plausible: {h['plausible']}; "
         f"angle between the two legs' pelvis medio-lateral axes {h['pelvis_axes_angle_deg']:.0f}°.",
         f"Chain anchor (right − left ankle centre at {a.get('time_s', float('nan')):.2f} s): forward "
-        f"{a.get('forward_m', float('nan')):+.3f} m, left {a.get('left_m', float('nan')):+.3f} m; right-to-left "
-        f"heading alignment of the foot trajectories {res['relative_heading_deg']:.1f}°. "
+        f"{a.get('forward_m', float('nan')):+.3f} m, left {a.get('left_m', float('nan')):+.3f} m; "
+        f"right-to-left heading alignment of the foot trajectories {res['relative_heading_deg']:.1f}°. "
         f"Joint calibration {res['runtime_s']:.2f} s; whole command {res['wall_s']:.1f} s.",
         "",
         "| side | start s | straight | stride IMU/Vicon m | step width IMU/Vicon m |",
