@@ -32,9 +32,9 @@ LAYERS: list[set[str]] = [
     {"model"},
     {"simulation"},
     {"pipeline"},
-    {"viz", "export", "agreement"},
+    {"viz", "export", "agreement", "bilateral"},
     {"outputs"},
-    {"demo"},
+    {"demo", "outputs_bilateral"},
     {"cli"},
 ]
 LAYER_OF = {unit: k for k, layer in enumerate(LAYERS) for unit in layer}

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from lowerlimb.cli._common import EXIT_OK, add_side, positive_float
+from lowerlimb.errors import InputError
 from lowerlimb.export.formats import EXPORT_FORMATS
 from lowerlimb.methods import CALIBRATION_METHODS, ORIENTATION_FILTERS
 
@@ -23,6 +24,7 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         help="output directory (created; must not hold a calibration)",
     )
     add_side(p)
+    p.set_defaults(side=None)  # "not given": a two-leg trial refuses --side; one leg defaults to left
     p.add_argument(
         "--method",
         choices=tuple(CALIBRATION_METHODS),
@@ -86,22 +88,50 @@ def run(args: argparse.Namespace) -> int:
     """Build :class:`~lowerlimb.outputs.CalibrateOptions` from the arguments and run it."""
     from lowerlimb.outputs import CalibrateOptions, run_calibrate
 
-    run_calibrate(
-        CalibrateOptions(
-            trial=args.trial,
-            out=args.out,
-            side=args.side,
-            method=args.method,
-            filter_name=args.filter,
-            height_m=args.height,
-            mass_kg=args.mass,
-            use_mag=not args.no_mag,
-            calibration=args.calibration,
-            s2j=args.s2j,
-            side_check=not args.no_side_check,
-            order_check=not args.no_order_check,
-            exports=tuple(args.export),
-            reference=args.reference,
+    two_legs = _two_leg_trial(args.trial)
+    if two_legs and args.side is not None:
+        raise InputError(
+            f"{args.trial} is a two-leg trial (pelvis, left_*, right_* sensors): both legs are "
+            f"calibrated, so --side {args.side} does not apply; drop --side (or import one leg "
+            f"as a four-sensor trial)"
         )
+    options = CalibrateOptions(
+        trial=args.trial,
+        out=args.out,
+        side=args.side or "left",
+        method=args.method,
+        filter_name=args.filter,
+        height_m=args.height,
+        mass_kg=args.mass,
+        use_mag=not args.no_mag,
+        calibration=args.calibration,
+        s2j=args.s2j,
+        side_check=not args.no_side_check,
+        order_check=not args.no_order_check,
+        exports=tuple(args.export),
+        reference=args.reference,
     )
+    if two_legs:
+        from lowerlimb.outputs_bilateral import run_calibrate_bilateral
+
+        run_calibrate_bilateral(options)
+    else:
+        run_calibrate(options)
     return EXIT_OK
+
+
+def _two_leg_trial(path: Path) -> bool:
+    """True when the trial's header names the seven two-leg sensors (docs/formats.md, "Two legs").
+
+    An unreadable or empty file is left to the single-leg path, which reports it.
+
+    Raises:
+        InputError: the header mixes single-leg and two-leg sensor names.
+    """
+    from lowerlimb.io.bilateral_trial import read_header, trial_layout
+
+    try:
+        header = read_header(path)
+    except (OSError, ValueError):  # InputError and UnicodeDecodeError are ValueErrors
+        return False
+    return trial_layout(header) == "two_legs"

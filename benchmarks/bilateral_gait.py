@@ -1,0 +1,252 @@
+"""Two legs on the real walk (gait/): seven Xsens MTw imported and run through the two-leg ``calibrate``.
+
+The seven MT Manager exports are imported with :func:`lowerlimb.io.load_xsens` into one
+two-leg trial CSV, and :func:`lowerlimb.outputs_bilateral.run_calibrate_bilateral` (what
+``lowerlimb calibrate TRIAL.csv --out DIR`` runs for a seven-sensor header) writes its
+folder. Scored against Vicon (Plug-in Gait, same clock, data/README.md):
+
+- both legs calibrate;
+- segment lengths: thigh = distance of the calibrated hip centre from the knee axis line
+  (thigh sensor), shank = ankle centre to the knee axis line (shank sensor), vs the
+  medians of |HJC − KJC| and |KJC − AJC| (as benchmarks/real_gait.py);
+- knee flexion RMSE vs ``L_Femur_L_Tibia`` / ``R_Femur_R_Tibia``, both zeroed on frames
+  200–1000 (standing), scored on frames 1120–2074 (the authors' walking window);
+- stride length and step width (``gait.json``'s strides) vs the Vicon ankle centres
+  (LAJC/RAJC) at the marker initial contacts (Zeni et al. 2008), straight strides, with
+  the event and stride helpers of benchmarks/gait_events.py; here the inter-foot anchor
+  comes from the calibrated chain (not from Vicon as in gait_events.py), and the feet
+  are tracked at the calibrated ankle centres;
+- hip spacing (the two calibrated hip centres) vs the median |LHJC − RHJC|.
+
+Usage: ``python benchmarks/bilateral_gait.py [--data ../shared/data]``; writes
+``benchmarks/results/bilateral_gait.{md,json}``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import json
+import tempfile
+import time
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+import scipy.io as sio
+
+from lowerlimb.conventions import ANGLE_COLUMNS, SIDES
+from lowerlimb.io import load_xsens
+from lowerlimb.outputs import CalibrateOptions
+from lowerlimb.outputs_bilateral import run_calibrate_bilateral
+
+ROOT = Path(__file__).resolve().parents[1]
+IDS = {
+    "pelvis": "00B40B91",
+    "left_thigh": "00B40C45",
+    "right_thigh": "00B40C3C",
+    "left_shank": "00B40C44",
+    "right_shank": "00B40C47",
+    "left_foot": "00B40C55",
+    "right_foot": "00B40C48",
+}
+STAND = slice(200, 1000)
+WALK = slice(1120, 2074)
+MATCH_S = 0.2
+GOALS = {"length_mm": 20.0, "stride_length_pct": 3.0, "step_width_mm": 20.0}
+
+
+def _gait_events_module() -> ModuleType:
+    spec = importlib.util.spec_from_file_location(
+        "gait_events_benchmark", ROOT / "benchmarks" / "gait_events.py"
+    )
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def _line_distance(point: np.ndarray, on_line: np.ndarray, axis: np.ndarray) -> float:
+    d = np.asarray(point) - np.asarray(on_line)
+    a = np.asarray(axis) / np.linalg.norm(axis)
+    return float(np.linalg.norm(d - (d @ a) * a))
+
+
+def _stats(x: list[float]) -> dict[str, float]:
+    a = np.asarray(x, dtype=float)
+    a = a[np.isfinite(a)]
+    if not a.size:
+        return {"n": 0}
+    return {
+        "n": int(a.size),
+        "median_abs": float(np.median(np.abs(a))),
+        "worst_abs": float(np.max(np.abs(a))),
+        "bias": float(a.mean()),
+    }
+
+
+def score_legs(result: Any, vicon: dict) -> dict[str, dict[str, float]]:
+    """Segment lengths and knee flexion RMSE of each leg."""
+    out = {}
+    names = list(ANGLE_COLUMNS[1:])
+    for side in SIDES:
+        P = side[0].upper()
+        cal = result.legs[side].calibration
+        thigh = _line_distance(
+            cal.hip.center_in_child_sensor, cal.knee.center_in_parent_sensor, cal.knee.axis_in_parent_sensor
+        )
+        shank = _line_distance(
+            cal.ankle.center_in_parent_sensor, cal.knee.center_in_child_sensor, cal.knee.axis_in_child_sensor
+        )
+        v_thigh = float(np.nanmedian(np.linalg.norm(vicon[P + "HJC"] - vicon[P + "KJC"], axis=1)))
+        v_shank = float(np.nanmedian(np.linalg.norm(vicon[P + "KJC"] - vicon[P + "AJC"], axis=1)))
+        knee = np.degrees(result.legs[side].angles_rad[:, names.index("knee_flexion")])
+        ref = vicon[f"{P}_Femur_{P}_Tibia"][0].astype(float)
+        o, r = knee - np.nanmean(knee[STAND]), ref - np.nanmean(ref[STAND])
+        out[side] = {
+            "thigh_mm": 1000 * thigh,
+            "thigh_vicon_mm": v_thigh,
+            "thigh_err_mm": 1000 * thigh - v_thigh,
+            "shank_mm": 1000 * shank,
+            "shank_vicon_mm": v_shank,
+            "shank_err_mm": 1000 * shank - v_shank,
+            "knee_flexion_rmse_deg": float(np.sqrt(np.nanmean((o[WALK] - r[WALK]) ** 2))),
+        }
+    return out
+
+
+def score_strides(result: Any, vicon: dict, ge: ModuleType) -> dict[str, Any]:
+    """Stride length and step width of the straight strides vs the Vicon ankle centres."""
+    sac, u, straight = ge.sacrum_walk(vicon)
+    ref = {side: ge.zeni_events(vicon, sac, u, side) for side in SIDES}
+    vs = ge.vicon_strides(vicon, ref, straight)
+    params = result.gait.parameters
+    t0 = float(result.trial.time_s[0])
+    rows = []
+    for s in params.strides if params is not None else []:
+        start = s.start_s + t0
+        cand = [v for v in vs if v["side"] == s.side and abs(v["start_s"] - start) <= MATCH_S]
+        if not cand:
+            continue
+        v = min(cand, key=lambda r: abs(r["start_s"] - start))
+        rows.append(
+            {
+                "side": s.side,
+                "start_s": round(start, 3),
+                "straight": bool(v["straight"] and not s.turning),
+                "step_straight": bool(v.get("step_straight", False) and not s.step_turning),
+                "stride_length_imu_m": s.stride_length_m,
+                "stride_length_vicon_m": v["stride_length_m"],
+                "step_width_imu_m": s.step_width_m,
+                "step_width_vicon_m": v.get("step_width_m", float("nan")),
+            }
+        )
+    sl = [100 * (r["stride_length_imu_m"] / r["stride_length_vicon_m"] - 1) for r in rows if r["straight"]]
+    sw = [1000 * (r["step_width_imu_m"] - r["step_width_vicon_m"]) for r in rows if r["step_straight"]]
+    return {"stride_length_err_pct": _stats(sl), "step_width_err_mm": _stats(sw), "strides": rows}
+
+
+def run(data: Path) -> dict[str, Any]:
+    vicon = sio.loadmat(str(data / "gait" / "vicon" / "S02-Trial-Walk-1.mat"))
+    ge = _gait_events_module()
+    res: dict[str, Any] = {"goals": GOALS}
+    with tempfile.TemporaryDirectory() as tmp:
+        csv = Path(tmp) / "walk7.csv"
+        load_xsens(data / "gait" / "rawimu", IDS).to_csv(csv)
+        t = time.perf_counter()
+        try:
+            result = run_calibrate_bilateral(CalibrateOptions(trial=csv, out=Path(tmp) / "out"))
+        except Exception as e:  # noqa: BLE001 - a benchmark records any failure
+            return res | {"both_legs_calibrate": False, "error": f"{type(e).__name__}: {e}"}
+        res["wall_s"] = time.perf_counter() - t
+        res["gait_json"] = json.loads((Path(tmp) / "out" / "gait.json").read_text())
+    res["both_legs_calibrate"] = True
+    res["legs"] = score_legs(result, vicon)
+    res |= score_strides(result, vicon, ge)
+    h = result.hips
+    v_sp = float(np.nanmedian(np.linalg.norm(vicon["LHJC"] - vicon["RHJC"], axis=1)))
+    res["hips"] = {
+        "spacing_mm": 1000 * h.spacing_m,
+        "spacing_vicon_mm": v_sp,
+        "spacing_err_mm": 1000 * h.spacing_m - v_sp,
+        "de_leva_mm": 1000 * h.expected_spacing_m,
+        "plausible": h.plausible,
+        "pelvis_axes_angle_deg": h.pelvis_axes_angle_deg,
+    }
+    res["anchor"] = res["gait_json"].get("anchor")
+    res["relative_heading_deg"] = (
+        result.gait.parameters.relative_heading_deg if result.gait.parameters else None
+    )
+    res["runtime_s"] = result.runtime_s
+    return res
+
+
+def markdown(res: dict[str, Any]) -> str:
+    L = ["# Two legs on the real walk (gait/, S02 Walk-1): seven IMUs through `calibrate`", ""]
+    if not res.get("both_legs_calibrate"):
+        return "\n".join(L + [f"Fails: {res.get('error')}", ""])
+    g = res["goals"]
+    L += [
+        f"Goals (issue 11): both legs calibrate; segment lengths within {g['length_mm']:.0f} mm; "
+        f"stride length within {g['stride_length_pct']:.0f} %, step width within "
+        f"{g['step_width_mm']:.0f} mm of the Vicon ankle centres. "
+        "Knee flexion zeroed on frames 200–1000, RMSE over 1120–2074.",
+        "",
+        "| side | thigh mm (Vicon, err) | shank mm (Vicon, err) | knee flexion RMSE ° |",
+        "|---|---|---|---|",
+    ]
+    for side, s in res["legs"].items():
+        L.append(
+            f"| {side} | {s['thigh_mm']:.0f} ({s['thigh_vicon_mm']:.0f}, {s['thigh_err_mm']:+.0f}) | "
+            f"{s['shank_mm']:.0f} ({s['shank_vicon_mm']:.0f}, {s['shank_err_mm']:+.0f}) | "
+            f"{s['knee_flexion_rmse_deg']:.1f} |"
+        )
+    L += ["", "| quantity (straight strides) | n | median abs | worst abs | bias |", "|---|---|---|---|---|"]
+    for key, unit in (("stride_length_err_pct", "%"), ("step_width_err_mm", "mm")):
+        e = res[key]
+        if e.get("n"):
+            L.append(
+                f"| {key} | {e['n']} | {e['median_abs']:.1f} {unit} | {e['worst_abs']:.1f} {unit} | "
+                f"{e['bias']:+.1f} {unit} |"
+            )
+        else:
+            L.append(f"| {key} | 0 | – | – | – |")
+    h = res["hips"]
+    a = res.get("anchor") or {}
+    L += [
+        "",
+        f"Hip spacing: {h['spacing_mm']:.0f} mm calibrated, {h['spacing_vicon_mm']:.0f} mm Vicon "
+        f"({h['spacing_err_mm']:+.0f} mm), de Leva {h['de_leva_mm']:.0f} mm; plausible: {h['plausible']}; "
+        f"angle between the two legs' pelvis medio-lateral axes {h['pelvis_axes_angle_deg']:.0f}°.",
+        f"Chain anchor (right − left ankle centre at {a.get('time_s', float('nan')):.2f} s): forward "
+        f"{a.get('forward_m', float('nan')):+.3f} m, left {a.get('left_m', float('nan')):+.3f} m; "
+        f"right-to-left heading alignment of the foot trajectories {res['relative_heading_deg']:.1f}°. "
+        f"Joint calibration {res['runtime_s']:.2f} s; whole command {res['wall_s']:.1f} s.",
+        "",
+        "| side | start s | straight | stride IMU/Vicon m | step width IMU/Vicon m |",
+        "|---|---|---|---|---|",
+    ]
+    for r in res["strides"]:
+        L.append(
+            f"| {r['side']} | {r['start_s']:.2f} | {r['straight']} | {r['stride_length_imu_m']:.3f}/"
+            f"{r['stride_length_vicon_m']:.3f} | {r['step_width_imu_m']:.3f}/{r['step_width_vicon_m']:.3f} |"
+        )
+    return "\n".join(L + [""])
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
+    ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
+    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
+    args = ap.parse_args()
+    res = run(args.data)
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "bilateral_gait.json").write_text(json.dumps(res, indent=1, default=float))
+    md = markdown(res)
+    (args.out / "bilateral_gait.md").write_text(md)
+    print(md)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,217 @@
+"""Gait events and spatio-temporal parameters of a calibrated two-leg trial.
+
+The :mod:`lowerlimb.gait` stages, fed with what the calibration knows:
+
+1. events per leg (:func:`~lowerlimb.gait.detect_gait_events`) from the shank and foot
+   sensors, gyro bias removed;
+2. each foot's ZUPT trajectory (:func:`~lowerlimb.gait.integrate_foot`) with the foot
+   orientation of the calibrated chain (heading made consistent with the pelvis
+   through hip, knee and ankle), so that both feet move in one earth frame, the
+   pelvis's; the trajectory is carried to the calibrated ankle centre
+   (``sensor_to_ankle_m`` = the ankle centre in that foot's sensor frame);
+3. the :class:`~lowerlimb.gait.FootAnchor` from the calibrated chain: the right minus
+   left ankle centre by forward kinematics (pelvis sensor frame, ``hip_to_ankle`` plus
+   the hip centre), turned into the earth frame with the pelvis orientation, at the
+   last double-support instant (both feet stationary) before the first initial
+   contact, in the walking coordinates of the left foot's next stride;
+4. :func:`~lowerlimb.gait.compute_gait_parameters`.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import asdict, dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from ..conventions import FloatArray, quat_to_matrix
+from ..gait import (
+    FootAnchor,
+    FootTrajectory,
+    GaitEvents,
+    GaitParameters,
+    GaitParams,
+    NoGaitCyclesError,
+    SideEvents,
+    compute_gait_parameters,
+    detect_gait_events,
+    foot_contacts,
+    integrate_foot,
+)
+from ..pipeline import TrialResult
+
+__all__ = ["BilateralGait", "NoGaitWarning", "analyse_gait", "chain_anchor"]
+
+
+class NoGaitWarning(UserWarning):
+    """The trial has no walking: ``events.csv`` is empty and ``gait.json`` holds nulls."""
+
+
+@dataclass(frozen=True)
+class BilateralGait:
+    """Events, foot trajectories and parameters of a two-leg trial.
+
+    Attributes:
+        events: Events of both legs, times on the trial's clock (s), or ``None`` without walking.
+        parameters: The per-stride parameters, or ``None``.
+        anchor: The inter-foot anchor from the calibrated chain (times from sample 0), or ``None``.
+        sensor_to_ankle_m: ``{side: (3,)}`` calibrated ankle centre in the foot sensor frame, m.
+        trajectories: ``{side: ankle-centre trajectory}`` (earth frame of the pelvis heading).
+        note: Why there are no parameters, or ``""``.
+    """
+
+    events: GaitEvents | None
+    parameters: GaitParameters | None
+    anchor: FootAnchor | None
+    sensor_to_ankle_m: dict[str, FloatArray]
+    trajectories: dict[str, FootTrajectory] = field(default_factory=dict)
+    note: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """The docs/formats.md ``gait.json`` content (NaN as ``None``), with the anchor and offsets."""
+        if self.parameters is None:
+            d: dict[str, Any] = {
+                "cadence_steps_per_min": None,
+                "gait_speed_m_s": None,
+                "step_width_m": {"mean": None, "sd": None},
+                "left": None,
+                "right": None,
+                "note": self.note,
+            }
+        else:
+            d = self.parameters.to_dict()
+            d["params"]["sensor_to_ankle_m"] = {
+                s: np.asarray(v).tolist() for s, v in self.sensor_to_ankle_m.items()
+            }
+        d["anchor"] = None if self.anchor is None else asdict(self.anchor) | {"source": "calibrated chain"}
+        return _json_safe(d)
+
+
+def _json_safe(x: Any) -> Any:
+    if isinstance(x, dict):
+        return {k: _json_safe(v) for k, v in x.items()}
+    if isinstance(x, list | tuple):
+        return [_json_safe(v) for v in x]
+    if isinstance(x, float) and not math.isfinite(x):
+        return None
+    return x
+
+
+def _shift(ev: SideEvents | None, t0: float) -> SideEvents | None:
+    if ev is None or t0 == 0.0:
+        return ev
+    return replace(
+        ev,
+        initial_contact_s=ev.initial_contact_s + t0,
+        toe_off_s=ev.toe_off_s + t0,
+        midswing_s=ev.midswing_s + t0,
+        start_time_s=t0,
+    )
+
+
+def chain_anchor(
+    legs: dict[str, TrialResult],
+    events: GaitEvents,
+    trajectories: dict[str, FootTrajectory],
+    params: GaitParams,
+) -> FootAnchor | None:
+    """Right minus left ankle centre at a double-support instant, from the calibrated chain.
+
+    Args:
+        legs: the two processed legs (same pelvis sensor, one pelvis heading).
+        events: events of both legs (times from sample 0).
+        trajectories: the two ankle-centre trajectories (earth frame of the pelvis heading).
+        params: gait thresholds (``max_stride_time_s``).
+
+    Returns:
+        The anchor, or ``None`` when the feet never rest together or the left foot has
+        no stride after the chosen instant.
+    """
+    if events.left is None or events.right is None:
+        return None
+    both = trajectories["left"].stationary.mask & trajectories["right"].stationary.mask
+    first_ic = min(float(events.left.initial_contact_s[0]), float(events.right.initial_contact_s[0]))
+    rate = trajectories["left"].rate_hz
+    cand = np.flatnonzero(both[: max(int(first_ic * rate), 0)])
+    if cand.size == 0:
+        cand = np.flatnonzero(both)
+    if cand.size == 0:
+        return None
+    k = int(cand[-1])
+    ankle = {
+        s: np.asarray(r.calibration.hip.center_in_parent_sensor, dtype=float) + r.positions_m[k, 3:6]
+        for s, r in legs.items()
+    }
+    d = quat_to_matrix(legs["left"].motion.sensor_quat_wxyz["pelvis"][k]) @ (ankle["right"] - ankle["left"])
+    cl = foot_contacts(
+        trajectories["left"], events.left.initial_contact_s, np.zeros(3), 0.5 * params.max_stride_time_s
+    )
+    after = np.flatnonzero(cl.time_s >= k / rate)
+    j = int(after[0]) if after.size and after[0] + 1 < len(cl.time_s) else 0
+    if len(cl.time_s) < 2:
+        return None
+    u = cl.position_m[j + 1, :2] - cl.position_m[j, :2]
+    if not np.all(np.isfinite(u)) or np.linalg.norm(u) == 0:
+        return None
+    u = u / np.linalg.norm(u)
+    return FootAnchor(time_s=k / rate, forward_m=float(d[:2] @ u), left_m=float(-u[1] * d[0] + u[0] * d[1]))
+
+
+def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None) -> BilateralGait:
+    """Events, ankle trajectories, the chain anchor and the gait parameters of two processed legs.
+
+    Args:
+        legs: ``{"left": …, "right": …}`` single-leg results of one two-leg trial.
+        params: gait thresholds (defaults: :class:`~lowerlimb.gait.GaitParams`).
+
+    Warns:
+        NoGaitWarning: a shank shows no walking; no events nor parameters.
+    """
+    p = params or GaitParams()
+    trial = legs["left"].trial
+    rate = trial.rate_hz
+    offsets = {
+        s: np.asarray(r.calibration.ankle.center_in_child_sensor, dtype=float) for s, r in legs.items()
+    }
+    gyr = {
+        (s, seg): r.trial.gyr[seg] - r.calibration.gyro_bias.get(seg, np.zeros(3))
+        for s, r in legs.items()
+        for seg in ("shank", "foot")
+    }
+    try:
+        events = detect_gait_events(
+            rate,
+            left_shank_gyr=gyr["left", "shank"],
+            right_shank_gyr=gyr["right", "shank"],
+            left_foot_gyr=gyr["left", "foot"],
+            left_foot_acc=legs["left"].trial.acc["foot"],
+            right_foot_gyr=gyr["right", "foot"],
+            right_foot_acc=legs["right"].trial.acc["foot"],
+            params=p,
+        )
+    except NoGaitCyclesError as e:
+        note = f"no gait events: {e}"
+        warnings.warn(
+            f"{note}; events.csv is empty and gait.json has no parameters", NoGaitWarning, stacklevel=2
+        )
+        return BilateralGait(None, None, None, offsets, note=note)
+    trajs: dict[str, FootTrajectory] = {}
+    for s, ev in (("left", events.left), ("right", events.right)):
+        assert ev is not None and ev.stationary is not None
+        tr = integrate_foot(
+            gyr[s, "foot"],
+            legs[s].trial.acc["foot"],
+            rate,
+            ev.stationary,
+            quat_wxyz=legs[s].motion.sensor_quat_wxyz["foot"],
+            params=p,
+        )
+        trajs[s] = replace(tr, position_m=tr.point_m(offsets[s]))
+    p_ankle = replace(p, sensor_to_ankle_m=(0.0, 0.0, 0.0))  # the trajectories are the ankle centres
+    anchor = chain_anchor(legs, events, trajs, p_ankle)
+    parameters = compute_gait_parameters(events, trajs["left"], trajs["right"], anchor=anchor, params=p_ankle)
+    t0 = float(trial.time_s[0])
+    shifted = GaitEvents(left=_shift(events.left, t0), right=_shift(events.right, t0), extras=events.extras)
+    return BilateralGait(shifted, parameters, anchor, offsets, trajs)

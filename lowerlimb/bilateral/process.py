@@ -1,0 +1,229 @@
+"""Both legs of a seven-IMU trial: :func:`process_bilateral_trial` → :class:`BilateralResult`.
+
+Each leg is the pelvis sensor with that side's thigh, shank and foot, run through the
+single-leg stages of :func:`lowerlimb.pipeline.process_trial` unchanged. What the two
+legs share:
+
+- **one pelvis heading.** The pelvis orientation is the reference of each leg's
+  heading correction (kept, never turned), and both legs fuse the magnetometer or
+  both do not (it is checked on both legs first), so the pelvis quaternion is the same
+  in the two legs; every segment of both legs is therefore in one earth frame, and
+  ``left_foot_to_right_foot`` (the difference of the two legs' forward kinematics in the
+  pelvis sensor frame) is consistent;
+- **the two hips** (:mod:`lowerlimb.bilateral.hips`): their distance against de Leva's
+  hip spacing and their sides, reported in ``calibration.json`` and warned about;
+- **gait** (:mod:`lowerlimb.bilateral.gait`): events per foot and spatio-temporal
+  parameters, the feet anchored to each other by the calibrated chain.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..calibration.options import CalibrationOptions
+from ..calibration.plausibility import SensorOrderError, WrongSideError
+from ..conventions import SIDES, FloatArray
+from ..errors import InputError
+from ..gait import GaitParams
+from ..io.bilateral_trial import BilateralTrial, with_file_names
+from ..orientation.magnetic import check_magnetic_field
+from ..pipeline import MAG_FILTERS, MagneticDisturbanceWarning, TrialResult, process_trial
+from .gait import BilateralGait, analyse_gait
+from .hips import HipCheck, HipParams, HipSpacingWarning, check_hips
+
+__all__ = ["BilateralResult", "BilateralSideError", "process_bilateral_trial"]
+
+
+class BilateralSideError(InputError):
+    """One side's sensors look like the other leg: the left_* and right_* columns are swapped."""
+
+    def __init__(self, side: str, lateral_m: float) -> None:
+        self.side = side
+        self.lateral_m = lateral_m
+        other = "right" if side == "left" else "left"
+        where = "right" if lateral_m > 0 else "left"
+        super().__init__(
+            f"the {side}_* sensors look like the {other} leg: the calibrated {side} hip centre lies "
+            f"{abs(lateral_m) * 100:.1f} cm to the {where} of the pelvis sensor; "
+            f"exchange the left_* and right_* columns (or pass --no-side-check if the pelvis sensor "
+            f"is not on the sacrum)"
+        )
+
+
+@dataclass
+class BilateralResult:
+    """Everything :func:`process_bilateral_trial` computes.
+
+    Attributes:
+        trial: the input trial.
+        legs: ``{"left": …, "right": …}`` each leg's single-leg result (pelvis + that side).
+        hips: the two hip centres checked together.
+        gait: events, foot trajectories and gait parameters.
+        timings_s: wall time of each stage, s.
+    """
+
+    trial: BilateralTrial
+    legs: dict[str, TrialResult]
+    hips: HipCheck
+    gait: BilateralGait
+    timings_s: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def angles_rad(self) -> FloatArray:
+        """(N, 18) ISB joint angles, left then right, rad (two-leg angles.csv order)."""
+        return np.hstack([self.legs[s].angles_rad for s in SIDES])
+
+    @property
+    def left_foot_to_right_foot_m(self) -> FloatArray:
+        """(N, 3) right foot sensor minus left foot sensor, pelvis sensor frame, m."""
+        return self.legs["right"].positions_m[:, :3] - self.legs["left"].positions_m[:, :3]
+
+    @property
+    def positions_m(self) -> FloatArray:
+        """(N, 15) two-leg positions.csv columns (pelvis sensor frame, m)."""
+        L, R = self.legs["left"].positions_m, self.legs["right"].positions_m
+        return np.hstack([L[:, :3], R[:, :3], L[:, 3:6], R[:, 3:6], self.left_foot_to_right_foot_m])
+
+    @property
+    def runtime_s(self) -> float:
+        """In-process wall time of the joint-constraint calibration of both legs, s."""
+        return float(sum(r.calibration.runtime_s for r in self.legs.values()))
+
+    def calibration_dict(self) -> dict[str, Any]:
+        """The two-leg calibration.json content (docs/formats.md, "Two legs")."""
+        legs = {}
+        for side, r in self.legs.items():
+            d = r.calibration_dict()
+            d.pop("format", None)
+            legs[side] = d
+        left = self.legs["left"]
+        return {
+            "format": "lowerlimb-calibration/1",
+            "layout": "two_legs",
+            "method": legs["left"].get("method"),
+            "filter": left.filter_name,
+            "legs": legs,
+            "runtime_s": self.runtime_s,
+            "hips": self.hips.to_dict(),
+            "shared_pelvis_heading": bool(
+                np.array_equal(
+                    left.motion.sensor_quat_wxyz["pelvis"],
+                    self.legs["right"].motion.sensor_quat_wxyz["pelvis"],
+                )
+            ),
+            "magnetometer_used": left.used_mag,
+            "timings_s": dict(self.timings_s),
+        }
+
+
+def _use_mag(trial: BilateralTrial, filter_name: str, use_mag: bool) -> bool:
+    """Fuse the magnetometer in both legs or in neither: True only when both legs' fields look usable.
+
+    Warns:
+        MagneticDisturbanceWarning: a leg's field looks disturbed; both legs run 6-axis.
+    """
+    if not use_mag or trial.mag is None or filter_name not in MAG_FILTERS:
+        return False
+    for side in SIDES:
+        leg = trial.leg(side)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            check = check_magnetic_field(leg, leg.reference_samples())
+        if not check.usable:
+            warnings.warn(
+                f"the magnetometer looks disturbed ({check.reason}, {side} leg); fusing gyro and "
+                f"accelerometer only in both legs (the joints keep the headings consistent); pass "
+                f"--no-mag to silence this",
+                MagneticDisturbanceWarning,
+                stacklevel=3,
+            )
+            return False
+    return True
+
+
+def _process_leg(trial: BilateralTrial, side: str, **kwargs: Any) -> TrialResult:
+    try:
+        return process_trial(trial.leg(side), **kwargs)
+    except WrongSideError as e:
+        raise BilateralSideError(side, e.lateral_m) from None
+    except SensorOrderError as e:
+        raise with_file_names(e, side) from None
+    except InputError as e:
+        raise InputError(f"{side} leg (pelvis and {side}_*): {e}") from None
+
+
+def process_bilateral_trial(
+    trial: BilateralTrial,
+    *,
+    method: str = "casadi",
+    filter_name: str = "mahony",
+    height_m: float = 1.75,
+    mass_kg: float = 75.0,
+    use_mag: bool = True,
+    progress: bool = False,
+    calibration_options: CalibrationOptions | None = None,
+    side_check: bool = True,
+    hip_params: HipParams | None = None,
+    gait_params: GaitParams | None = None,
+) -> BilateralResult:
+    """Calibrate both legs of a seven-IMU trial; angles, positions, hips and gait.
+
+    Args:
+        trial: a validated two-leg trial.
+        method: joint-constraint solver (:data:`lowerlimb.methods.CALIBRATION_METHODS`).
+        filter_name: orientation filter (:data:`lowerlimb.methods.ORIENTATION_FILTERS`).
+        height_m: subject stature (URDF inertias, de Leva hip spacing), m.
+        mass_kg: subject mass (URDF inertias), kg.
+        use_mag: fuse the magnetometer when both legs' fields look usable.
+        progress: print one line per stage and leg on stderr.
+        calibration_options: joint-calibration options, both legs.
+        side_check: refuse a leg whose calibrated hip lies on the other side of the pelvis sensor.
+        hip_params: thresholds of the two-hip check.
+        gait_params: thresholds of the gait stages.
+
+    Raises:
+        InputError: swapped columns (``BilateralSideError``, ``SensorOrderError`` with the
+            file's column names), or a leg's problem (prefixed with the leg).
+
+    Warns:
+        HipSpacingWarning: the two hip centres do not look like one pelvis.
+        NoGaitWarning: the trial has no walking.
+    """
+    mag = _use_mag(trial, filter_name, use_mag)
+    kwargs: dict[str, Any] = {
+        "method": method,
+        "filter_name": filter_name,
+        "height_m": height_m,
+        "mass_kg": mass_kg,
+        "progress": progress,
+        "calibration_options": calibration_options,
+        "side_check": side_check,
+    }
+    legs = {"left": _process_leg(trial, "left", use_mag=mag, **kwargs)}
+    legs["right"] = _process_leg(trial, "right", use_mag=mag and legs["left"].used_mag, **kwargs)
+    if legs["left"].used_mag and not legs["right"].used_mag:  # the right field was rejected
+        legs["left"] = _process_leg(trial, "left", use_mag=False, **kwargs)
+    timings: dict[str, float] = {}
+    for side, r in legs.items():
+        for k, v in r.timings_s.items():
+            timings[f"{side}: {k}"] = v
+    hips = check_hips(
+        legs["left"].calibration,
+        legs["right"].calibration,
+        {s: r.motion.frames.R_sensor_segment["pelvis"] for s, r in legs.items()},
+        height_m=height_m,
+        params=hip_params,
+    )
+    if not hips.plausible:
+        warnings.warn(
+            f"the two hip centres do not look like one pelvis: {hips.reason}; check the sensor "
+            f"placements and the --height",
+            HipSpacingWarning,
+            stacklevel=2,
+        )
+    gait = analyse_gait(legs, gait_params)
+    return BilateralResult(trial, legs, hips, gait, timings)

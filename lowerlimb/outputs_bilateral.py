@@ -1,0 +1,187 @@
+"""The result folder of ``lowerlimb calibrate`` for a two-leg (seven-IMU) trial.
+
+Files (docs/formats.md, "Two legs"): ``calibration.json`` (``legs.left`` / ``legs.right``,
+each with the single-leg ``joints``), ``angles.csv`` (``left_*``/``right_*``),
+``positions.csv`` (with ``left_foot_to_right_foot``), ``events.csv``, ``gait.json``, the
+URDF (:func:`write_lower_body_urdf`) and ``report.html``. As for one leg, the folder is
+staged and renamed into place (:func:`lowerlimb.io.atomic.populate_directory`), so a
+failure leaves nothing. :func:`run_calibrate_bilateral` is the whole command in typed form.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import sys
+import warnings
+from pathlib import Path
+
+from .bilateral import BilateralResult, process_bilateral_trial
+from .calibration.options import CalibrationOptions, check_method
+from .conventions import SIDES
+from .errors import InputError
+from .gait import GaitEvents, write_events_csv
+from .io.atomic import check_new_directory, populate_directory
+from .io.bilateral_tables import write_bilateral_tables
+from .io.bilateral_trial import BilateralTrial
+from .outputs import CalibrateOptions, _print_warnings
+
+__all__ = [
+    "LEG_URDF_FILES",
+    "run_calibrate_bilateral",
+    "write_bilateral_outputs",
+    "write_bilateral_result",
+    "write_lower_body_urdf",
+]
+
+#: The per-leg URDFs written until the one lower-body model is wired in (:func:`write_lower_body_urdf`).
+LEG_URDF_FILES: dict[str, str] = {side: f"calibrated_{side}.urdf" for side in SIDES}
+
+
+def write_lower_body_urdf(result: BilateralResult, directory: Path) -> list[str]:
+    """Write the lower-body model and each calibrated leg; return the file names, the model first.
+
+    ``calibrated.urdf`` (docs/formats.md, "Two legs") is one model of the pelvis, the
+    upper body and both calibrated legs on a REP 103 z-up base
+    (:func:`lowerlimb.model.lower_body.lower_body_urdf`); ``calibrated_left.urdf`` and
+    ``calibrated_right.urdf`` are the single-leg models, as a one-leg trial writes them.
+    """
+    from lowerlimb.model.lower_body import lower_body_urdf
+
+    left, right = (result.legs[s].model.geometry for s in ("left", "right"))
+    xml = lower_body_urdf(left, right, height_m=left.height_m, mass_kg=left.mass_kg)
+    (directory / "calibrated.urdf").write_text(xml, encoding="utf-8")
+    for side, name in LEG_URDF_FILES.items():
+        (directory / name).write_text(result.legs[side].model.to_urdf_string(), encoding="utf-8")
+    return ["calibrated.urdf", *LEG_URDF_FILES.values()]
+
+
+def write_bilateral_outputs(result: BilateralResult, directory: Path) -> None:
+    """Write every output of a processed two-leg trial into the existing, empty ``directory``."""
+    urdf = write_lower_body_urdf(result, directory)
+    d = result.calibration_dict()
+    d["urdf"] = urdf
+    (directory / "calibration.json").write_text(json.dumps(d, indent=2), encoding="utf-8")
+    write_bilateral_tables(directory, result.trial.time_s, result.angles_rad, result.positions_m)
+    write_events_csv(result.gait.events or GaitEvents(), directory / "events.csv")
+    (directory / "gait.json").write_text(json.dumps(result.gait.to_dict(), indent=2) + "\n", encoding="utf-8")
+    _write_report(result, directory, d)
+
+
+def write_bilateral_result(result: BilateralResult, out: Path) -> None:
+    """Create the folder ``out`` holding every output of ``result``, or nothing at all.
+
+    Raises:
+        InputError: ``out`` exists and is not empty, or its parent does not exist.
+    """
+    populate_directory(out, lambda d: write_bilateral_outputs(result, d))
+
+
+def _summary_rows(result: BilateralResult) -> str:
+    h = result.hips
+    rows = [
+        ("hip spacing", f"{h.spacing_m * 1000:.0f} mm (de Leva {h.expected_spacing_m * 1000:.0f} mm)"),
+        ("right hip to the right of the left", f"{h.lateral_m * 1000:.0f} mm"),
+        ("hips plausible", "yes" if h.plausible else f"no: {h.reason}"),
+    ]
+    g = result.gait.to_dict()
+    if result.gait.parameters is not None:
+        rows.append(("cadence", f"{g['cadence_steps_per_min']:.1f} steps/min"))
+        if g.get("gait_speed_m_s") is not None:
+            rows.append(("gait speed", f"{g['gait_speed_m_s']:.2f} m/s"))
+        for side in SIDES:
+            s = g.get(side) or {}
+            sl = (s.get("stride_length_m") or {}).get("mean")
+            st = (s.get("stride_time_s") or {}).get("mean")
+            if sl is not None and st is not None:
+                rows.append((f"{side} stride", f"{sl:.2f} m, {st:.2f} s"))
+    else:
+        rows.append(("gait", result.gait.note))
+    return "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>" for k, v in rows)
+
+
+def _write_report(result: BilateralResult, directory: Path, calibration: dict[str, object]) -> None:
+    """``report.html``: a two-leg summary and each leg's single-leg report in an ``<iframe srcdoc>``."""
+    from .viz.report import write_report
+
+    frames = []
+    for side in SIDES:
+        leg = result.legs[side]
+        tmp = directory / f".report_{side}.html"
+        leg_calibration = dict(calibration["legs"][side])  # type: ignore[index]
+        leg_calibration["side"] = side
+        write_report(
+            tmp,
+            model=leg.model,
+            time_s=result.trial.time_s,
+            angles_rad=leg.angles_rad,
+            positions_m=leg.positions_m,
+            calibration=leg_calibration,
+            title=f"lowerlimb calibration report: {side} leg",
+        )
+        doc = tmp.read_text(encoding="utf-8")
+        tmp.unlink()
+        frames.append(
+            f'<h2>{side} leg</h2><iframe style="width:100%;height:90vh;border:0" '
+            f'srcdoc="{html.escape(doc, quote=True)}"></iframe>'
+        )
+    page = (
+        "<!DOCTYPE html><html><head><meta charset='utf-8'><title>lowerlimb: two legs</title></head>"
+        "<body style='font-family:sans-serif'><h1>lowerlimb calibration report: two legs</h1>"
+        f"<table>{_summary_rows(result)}</table>{''.join(frames)}</body></html>"
+    )
+    (directory / "report.html").write_text(page, encoding="utf-8")
+
+
+def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
+    """Calibrate a two-leg trial file and write its result folder; progress and warnings go to stderr.
+
+    ``options.side`` is not used (a two-leg trial has both); ``--calibration`` and ``--s2j``
+    are single-leg options and are refused.
+
+    Raises:
+        InputError: bad trial, bad or single-leg-only options, or an existing non-empty folder.
+        FileNotFoundError: the trial does not exist.
+    """
+    out = Path(options.out)
+    check_new_directory(out)
+    for given, flag in ((options.calibration, "--calibration"), (options.s2j, "--s2j")):
+        if given is not None:
+            raise InputError(
+                f"{flag} is a single-leg option; a two-leg trial is calibrated on itself (drop {flag}, "
+                f"or import one leg as a four-sensor trial)"
+            )
+    trial = BilateralTrial.from_csv(options.trial)
+    check_method(options.method)
+    print(
+        f"calibrating {options.trial} ({trial.n_samples} samples at {trial.rate_hz:.4g} Hz, "
+        f"{trial.duration_s:.1f} s, two legs, method {options.method}, filter {options.filter_name})",
+        file=sys.stderr,
+    )
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = process_bilateral_trial(
+            trial,
+            method=options.method,
+            filter_name=options.filter_name,
+            height_m=options.height_m,
+            mass_kg=options.mass_kg,
+            use_mag=options.use_mag,
+            progress=True,
+            calibration_options=CalibrationOptions(check_sensor_order=options.order_check),
+            side_check=options.side_check,
+        )
+    _print_warnings(caught)
+    write_bilateral_result(result, out)
+    print(f"joint calibration of both legs took {result.runtime_s:.3f} s; wrote {out}/", file=sys.stderr)
+    for side in SIDES:
+        for name, joint in result.legs[side].calibration.joints.items():
+            print(
+                f"  {side:<5s} {name:<6s} rms residual {joint.to_dict()['rms_residual']:.4g}", file=sys.stderr
+            )
+    h = result.hips
+    print(
+        f"  hips {h.spacing_m * 1000:.0f} mm apart (de Leva {h.expected_spacing_m * 1000:.0f} mm)",
+        file=sys.stderr,
+    )
+    return result

@@ -1,0 +1,173 @@
+"""Two-leg (seven-IMU) trials: layout, validation messages, the calibrate command and its outputs.
+
+The trial is two simulated legs sharing one pelvis (``bilateral_sim``); numeric
+bounds are set from what the single-leg pipeline achieves on the simulator.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from bilateral_sim import simulate_two_legs
+
+from lowerlimb.conventions import SIDES
+from lowerlimb.errors import InputError, MissingColumnError, NonFiniteValueError, UnitError
+from lowerlimb.gait import EVENTS_COLUMNS
+from lowerlimb.io.bilateral_tables import BILATERAL_ANGLE_COLUMNS, BILATERAL_POSITION_COLUMNS
+from lowerlimb.io.bilateral_trial import BilateralTrial, trial_layout
+from lowerlimb.io.recording import TWO_LEG_SENSORS
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _cli(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "lowerlimb.cli", *args], capture_output=True, text=True, cwd=ROOT, check=False
+    )
+
+
+@pytest.fixture(scope="module")
+def two_legs(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
+    """(trial CSV, calibrate output folder) of the shared-pelvis simulation."""
+    folder = tmp_path_factory.mktemp("bilateral")
+    csv = folder / "walk7.csv"
+    simulate_two_legs().trial.to_csv(csv)
+    out = folder / "out"
+    r = _cli("calibrate", str(csv), "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    return csv, out
+
+
+def test_layout_is_recognised_from_the_header():
+    two = ["time"] + [f"{s}_{q}_{a}" for s in TWO_LEG_SENSORS for q in ("acc", "gyr") for a in "xyz"]
+    one = ["time"] + [
+        f"{s}_{q}_{a}" for s in ("pelvis", "thigh", "shank", "foot") for q in ("acc", "gyr") for a in "xyz"
+    ]
+    assert trial_layout(two) == "two_legs"
+    assert trial_layout(one) == "one_leg"
+    with pytest.raises(InputError, match="mixes single-leg columns"):
+        trial_layout(one + ["left_thigh_acc_x"])
+
+
+def test_joined_legs_share_the_pelvis_and_round_trip(tmp_path: Path):
+    sim = simulate_two_legs()
+    t = sim.trial
+    assert t.leg("left").gyr["pelvis"] is t.leg("right").gyr["pelvis"]
+    t.to_csv(tmp_path / "t.csv")
+    back = BilateralTrial.from_csv(tmp_path / "t.csv")
+    assert back.header() == t.header() and back.header()[1:4] == [
+        "pelvis_acc_x",
+        "pelvis_acc_y",
+        "pelvis_acc_z",
+    ]
+    np.testing.assert_allclose(back.gyr["right_foot"], t.gyr["right_foot"], rtol=1e-8)
+
+
+def _write_variant(tmp_path: Path, change) -> Path:
+    t = simulate_two_legs().trial
+    acc = {k: v.copy() for k, v in t.acc.items()}
+    gyr = {k: v.copy() for k, v in t.gyr.items()}
+    change(acc, gyr)
+    path = tmp_path / "bad.csv"
+    BilateralTrial(t.time_s.copy(), acc, gyr, None).to_csv(path)
+    return path
+
+
+def test_validation_names_the_column_as_in_the_file(tmp_path: Path):
+    def nan(acc, gyr):
+        gyr["left_thigh"][10, 1] = np.nan
+
+    with pytest.raises(NonFiniteValueError, match="'left_thigh_gyr_y' has a NaN") as e:
+        BilateralTrial.from_csv(_write_variant(tmp_path, nan))
+    assert e.value.column == "left_thigh_gyr_y" and e.value.row == 11
+
+    def degrees(acc, gyr):
+        gyr["right_shank"] *= 180.0 / np.pi
+
+    with pytest.raises(
+        UnitError, match=r"right_shank gyro values up to \d+ look like deg/s.*multiply by π/180"
+    ):
+        BilateralTrial.from_csv(_write_variant(tmp_path, degrees))
+
+
+def test_a_missing_two_leg_column_is_named(tmp_path: Path):
+    t = simulate_two_legs().trial
+    t.to_csv(tmp_path / "t.csv")
+    lines = (tmp_path / "t.csv").read_text().splitlines()
+    header = lines[0].split(",")
+    k = header.index("right_foot_acc_z")
+    cut = [",".join(c for i, c in enumerate(line.split(",")) if i != k) for line in lines]
+    (tmp_path / "cut.csv").write_text("\n".join(cut) + "\n")
+    with pytest.raises(MissingColumnError, match="missing column 'right_foot_acc_z'"):
+        BilateralTrial.from_csv(tmp_path / "cut.csv")
+    r = _cli("calibrate", str(tmp_path / "cut.csv"), "--out", str(tmp_path / "o"))
+    assert r.returncode == 2 and "right_foot_acc_z" in r.stderr and "Traceback" not in r.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_side_and_single_leg_options_are_refused_for_two_legs(two_legs, tmp_path: Path):
+    csv, _ = two_legs
+    for extra, words in (
+        (["--side", "right"], "is a two-leg trial"),
+        (["--calibration", str(csv)], "--calibration is a single-leg option"),
+    ):
+        r = _cli("calibrate", str(csv), "--out", str(tmp_path / "o"), *extra)
+        assert r.returncode == 2, r.stderr
+        assert words in r.stderr and len(r.stderr.strip().splitlines()) == 1
+        assert not (tmp_path / "o").exists()
+
+
+def test_outputs_have_the_two_leg_columns_and_keys(two_legs):
+    _, out = two_legs
+    names = sorted(p.name for p in out.iterdir())
+    for f in ("angles.csv", "positions.csv", "events.csv", "gait.json", "calibration.json", "report.html"):
+        assert f in names
+    assert "calibrated_left.urdf" in names and "calibrated_right.urdf" in names
+    assert "calibrated.urdf" in names
+    assert tuple(open(out / "angles.csv").readline().strip().split(",")) == BILATERAL_ANGLE_COLUMNS
+    assert tuple(open(out / "positions.csv").readline().strip().split(",")) == BILATERAL_POSITION_COLUMNS
+    assert tuple(open(out / "events.csv").readline().strip().split(",")) == EVENTS_COLUMNS
+    assert (
+        BILATERAL_ANGLE_COLUMNS[1] == "left_hip_flexion"
+        and BILATERAL_ANGLE_COLUMNS[10] == "right_hip_flexion"
+    )
+    assert BILATERAL_POSITION_COLUMNS[-3:] == tuple(f"left_foot_to_right_foot_{a}" for a in "xyz")
+    cal = json.loads((out / "calibration.json").read_text())
+    assert cal["format"] == "lowerlimb-calibration/1" and cal["runtime_s"] > 0
+    assert cal["shared_pelvis_heading"] is True
+    for side in SIDES:
+        joints = cal["legs"][side]["joints"]
+        assert joints["hip"]["parent_sensor"] == "pelvis" and joints["hip"]["child_sensor"] == "thigh"
+        assert len(joints["knee"]["axis_in_parent_sensor"]) == 3 and "rms_residual" in joints["ankle"]
+    gait = json.loads((out / "gait.json").read_text())
+    for key in ("cadence_steps_per_min", "gait_speed_m_s", "step_width_m", "left", "right"):
+        assert key in gait
+    for side in SIDES:
+        for key in ("stride_time_s", "stride_length_m", "step_length_m", "stance_pct", "double_support_pct"):
+            assert {"mean", "sd"} <= set(gait[side][key])
+    rows = (out / "events.csv").read_text().splitlines()[1:]
+    assert rows and {r.split(",")[2] for r in rows} == {"initial_contact", "toe_off"}
+    assert {r.split(",")[1] for r in rows} == {"left", "right"}
+
+
+def test_both_legs_calibrate_against_the_truth(two_legs):
+    _, out = two_legs
+    sim = simulate_two_legs()
+    cal = json.loads((out / "calibration.json").read_text())
+    for side in SIDES:
+        truth = sim.sims[side].truth["joints"]
+        for joint, key in (("hip", "center_in_parent_sensor"), ("ankle", "center_in_child_sensor")):
+            err = np.linalg.norm(np.subtract(cal["legs"][side]["joints"][joint][key], truth[joint][key]))
+            assert err < 0.03, (side, joint, err)
+    hips = cal["hips"]
+    assert hips["plausible"] and abs(hips["spacing_m"] - hips["expected_spacing_m"]) < 0.03
+    pos = np.loadtxt(out / "positions.csv", delimiter=",", skiprows=1)
+    f2f = pos[:, -3:]
+    rmse = float(np.sqrt(np.mean(np.sum((f2f - sim.left_foot_to_right_foot_m) ** 2, axis=1))))
+    assert rmse < 0.05, rmse
+    np.testing.assert_allclose(f2f, pos[:, 4:7] - pos[:, 1:4], atol=2e-7)

@@ -1,0 +1,39 @@
+"""The two-leg benchmark on the real walk (gait/ in the shared data), bounds ~2-3x the measured errors."""
+
+import importlib.util
+from pathlib import Path
+
+import pytest
+from simcache import data_dir
+
+DATA = data_dir()
+pytestmark = [
+    pytest.mark.data,
+    pytest.mark.skipif(DATA is None or not (DATA / "gait").is_dir(), reason="real-walk data absent"),
+]
+
+
+def _benchmark():
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "bilateral_gait.py"
+    spec = importlib.util.spec_from_file_location("bilateral_gait_benchmark", path)
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_real_walk_two_legs():
+    assert DATA is not None
+    res = _benchmark().run(DATA)
+    assert res["both_legs_calibrate"], res.get("error")
+    for side, s in res["legs"].items():
+        # measured: left -10/+7 mm, right +30/+0 mm (the same as each leg alone)
+        assert abs(s["thigh_err_mm"]) < 70 and abs(s["shank_err_mm"]) < 40, side
+    assert res["legs"]["left"]["knee_flexion_rmse_deg"] < 25  # measured 11.0
+    assert res["legs"]["right"]["knee_flexion_rmse_deg"] < 12  # measured 4.5
+    assert (
+        res["stride_length_err_pct"]["n"] >= 5 and res["stride_length_err_pct"]["median_abs"] < 4.0
+    )  # 1.3 %
+    assert res["step_width_err_mm"]["n"] >= 3 and res["step_width_err_mm"]["median_abs"] < 150  # 54 mm
+    # measured +104 mm: the hip centres are poorly determined along the vertical in walking
+    assert abs(res["hips"]["spacing_err_mm"]) < 250
