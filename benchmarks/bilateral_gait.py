@@ -27,6 +27,7 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import json
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -34,25 +35,16 @@ from types import ModuleType
 from typing import Any
 
 import numpy as np
-import scipy.io as sio
 
 from lowerlimb.conventions import ANGLE_COLUMNS, SIDES
 from lowerlimb.io import load_xsens
 from lowerlimb.outputs import CalibrateOptions
 from lowerlimb.outputs_bilateral import run_calibrate_bilateral
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _realwalk import IDS, STAND, WALK, load_vicon, raw_dir  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[1]
-IDS = {
-    "pelvis": "00B40B91",
-    "left_thigh": "00B40C45",
-    "right_thigh": "00B40C3C",
-    "left_shank": "00B40C44",
-    "right_shank": "00B40C47",
-    "left_foot": "00B40C55",
-    "right_foot": "00B40C48",
-}
-STAND = slice(200, 1000)
-WALK = slice(1120, 2074)
 MATCH_S = 0.2
 GOALS = {"length_mm": 20.0, "stride_length_pct": 3.0, "step_width_mm": 20.0}
 
@@ -148,12 +140,12 @@ def score_strides(result: Any, vicon: dict, ge: ModuleType) -> dict[str, Any]:
 
 
 def run(data: Path) -> dict[str, Any]:
-    vicon = sio.loadmat(str(data / "gait" / "vicon" / "S02-Trial-Walk-1.mat"))
+    vicon = load_vicon(data)
     ge = _gait_events_module()
     res: dict[str, Any] = {"goals": GOALS}
     with tempfile.TemporaryDirectory() as tmp:
         csv = Path(tmp) / "walk7.csv"
-        load_xsens(data / "gait" / "rawimu", IDS).to_csv(csv)
+        load_xsens(raw_dir(data), IDS).to_csv(csv)
         t = time.perf_counter()
         try:
             result = run_calibrate_bilateral(CalibrateOptions(trial=csv, out=Path(tmp) / "out"))

@@ -51,7 +51,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import scipy.io as sio
 
 import lowerlimb as ll
 from lowerlimb.agreement import agreement_statistics
@@ -59,19 +58,11 @@ from lowerlimb.conventions import ANGLE_COLUMNS, quat_to_matrix
 from lowerlimb.export.opensim import write_orientations_sto
 from lowerlimb.segments.frames import mean_quaternion
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _realwalk import IDS, STAND, WALK, leg_mapping, load_vicon  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[1]
 RUNNER = Path(__file__).resolve().parent / "_opensense_run.py"
-IDS = {
-    "pelvis": "00B40B91",
-    "left_thigh": "00B40C45",
-    "right_thigh": "00B40C3C",
-    "left_shank": "00B40C44",
-    "right_shank": "00B40C47",
-    "left_foot": "00B40C55",
-    "right_foot": "00B40C48",
-}
-STAND = slice(200, 1000)
-WALK = slice(1120, 2074)
 SIDES = ("left", "right")
 #: Joint -> (our angles.csv column, OpenSim coordinate stem).
 JOINT_COLUMNS = {
@@ -93,7 +84,7 @@ def opensim_python() -> str | None:
 
 def load_leg(data: Path, side: str) -> ll.ImuTrial:
     """One leg of the walk as a four-sensor trial, through the library's Xsens reader."""
-    mapping = {"pelvis": IDS["pelvis"]} | {s: IDS[f"{side}_{s}"] for s in ("thigh", "shank", "foot")}
+    mapping = leg_mapping(side)
     return ll.read_xsens(data / "gait" / "rawimu", mapping, side=side)
 
 
@@ -222,7 +213,7 @@ def run(data: Path, python: str, work: Path) -> dict[str, Any]:
     (our two one-leg runs need not share the pelvis heading: one may fuse the
     magnetometer and the other not), and once with all seven Xsens IMUs.
     """
-    vicon = sio.loadmat(data / "gait" / "vicon" / "S02-Trial-Walk-1.mat")
+    vicon = load_vicon(data)
     results: dict[str, Any] = {}
     timings: dict[str, float] = {}
     trials = {side: load_leg(data, side) for side in SIDES}

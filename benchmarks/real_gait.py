@@ -32,37 +32,28 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 import time
 import warnings
 from pathlib import Path
 
 import numpy as np
-import scipy.io as sio
 
 import lowerlimb as ll
 from lowerlimb.calibration.leg import calibrate_leg
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.conventions import ANGLE_COLUMNS
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _realwalk import STAND, WALK, leg_mapping, load_vicon, raw_dir  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[1]
-IDS = {
-    "pelvis": "00B40B91",
-    "left_thigh": "00B40C45",
-    "right_thigh": "00B40C3C",
-    "left_shank": "00B40C44",
-    "right_shank": "00B40C47",
-    "left_foot": "00B40C55",
-    "right_foot": "00B40C48",
-}
-STAND = slice(200, 1000)
-WALK = slice(1120, 2074)
 GOALS = {"length_mm": 20.0, "knee_deg": 5.0, "hip_deg": 5.0, "ankle_deg": 5.0, "hip_ankle_mm": 25.0}
 
 
 def load_leg(data: Path, side: str) -> ll.ImuTrial:
     """One leg of the walk as a four-sensor trial, through the library's Xsens reader."""
-    mapping = {"pelvis": IDS["pelvis"]} | {s: IDS[f"{side}_{s}"] for s in ("thigh", "shank", "foot")}
-    return ll.read_xsens(data / "gait" / "rawimu", mapping, side=side)
+    return ll.read_xsens(raw_dir(data), leg_mapping(side), side=side)
 
 
 def straight_passes(vicon: dict, side: str) -> np.ndarray:
@@ -151,7 +142,7 @@ def evaluate(result, vicon: dict, side: str) -> dict[str, float]:
 
 
 def run(data: Path) -> dict:
-    vicon = sio.loadmat(data / "gait" / "vicon" / "S02-Trial-Walk-1.mat")
+    vicon = load_vicon(data)
     rows = []
     for config, opts in (
         ("default", CalibrationOptions()),
