@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 import sys
 import warnings
+from collections.abc import Collection
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -29,8 +30,10 @@ from .pipeline import TrialResult, process_trial
 from .s2j import S2JModel
 
 __all__ = [
+    "OUTPUT_FILES",
     "S2J_SIDECAR",
     "CalibrateOptions",
+    "check_outputs",
     "load_calibrated",
     "read_calibration",
     "read_s2j",
@@ -43,6 +46,29 @@ __all__ = [
 #: Name of the S2J sidecar written beside the URDF.
 S2J_SIDECAR = "s2j.json"
 
+#: The files of a result folder, by the short name ``--outputs`` takes (docs/formats.md).
+OUTPUT_FILES: dict[str, str] = {
+    "calibration": "calibration.json",
+    "angles": "angles.csv",
+    "positions": "positions.csv",
+    "s2j": S2J_SIDECAR,
+    "urdf": "calibrated.urdf",
+    "report": "report.html",
+}
+
+
+def check_outputs(names: Collection[str]) -> frozenset[str]:
+    """The set of output short names, checked against :data:`OUTPUT_FILES`.
+
+    Raises:
+        InputError: an unknown name, or none at all; the message lists the accepted ones.
+    """
+    unknown = sorted(set(names) - set(OUTPUT_FILES))
+    if unknown or not names:
+        what = f"unknown output {', '.join(map(repr, unknown))}" if unknown else "no output chosen"
+        raise InputError(f"{what}; choose among {', '.join(OUTPUT_FILES)}")
+    return frozenset(names)
+
 
 def write_outputs(
     result: TrialResult,
@@ -50,35 +76,43 @@ def write_outputs(
     *,
     truth_angles_rad: FloatArray | None = None,
     truth_positions_m: FloatArray | None = None,
+    files: Collection[str] = tuple(OUTPUT_FILES),
 ) -> None:
-    """Write every output of a processed trial (docs/formats.md) into ``directory``.
+    """Write the outputs of a processed trial (docs/formats.md) into ``directory``.
 
     Args:
         result: the processed trial.
         directory: an existing, empty folder.
         truth_angles_rad: (N, 9) known angles (simulations) to overlay in the report.
         truth_positions_m: (N, 6) known positions to overlay in the report.
+        files: short names (:data:`OUTPUT_FILES`) of the files to write; default all.
     """
     d = result.calibration_dict()
-    d["urdf"] = "calibrated.urdf"
+    d["urdf"] = OUTPUT_FILES["urdf"]
     d["s2j"] = S2J_SIDECAR
-    (directory / "calibration.json").write_text(json.dumps(d, indent=2), encoding="utf-8")
-    write_angles_csv(directory / "angles.csv", result.trial.time_s, result.angles_rad)
-    write_positions_csv(directory / "positions.csv", result.trial.time_s, result.positions_m)
-    (directory / S2J_SIDECAR).write_text(json.dumps(result.s2j.to_dict(), indent=1), encoding="utf-8")
-    (directory / "calibrated.urdf").write_text(
-        urdf_with_sidecar(result.model.to_urdf_string()), encoding="utf-8"
-    )
-    _write_report(result, directory, d, truth_angles_rad, truth_positions_m)
+    if "calibration" in files:
+        (directory / "calibration.json").write_text(json.dumps(d, indent=2), encoding="utf-8")
+    if "angles" in files:
+        write_angles_csv(directory / "angles.csv", result.trial.time_s, result.angles_rad)
+    if "positions" in files:
+        write_positions_csv(directory / "positions.csv", result.trial.time_s, result.positions_m)
+    if "s2j" in files:
+        (directory / S2J_SIDECAR).write_text(json.dumps(result.s2j.to_dict(), indent=1), encoding="utf-8")
+    if "urdf" in files:
+        (directory / "calibrated.urdf").write_text(
+            urdf_with_sidecar(result.model.to_urdf_string()), encoding="utf-8"
+        )
+    if "report" in files:
+        _write_report(result, directory, d, truth_angles_rad, truth_positions_m)
 
 
-def write_result(result: TrialResult, out: Path) -> None:
-    """Create the folder ``out`` holding every output of ``result``, or nothing at all.
+def write_result(result: TrialResult, out: Path, files: Collection[str] = tuple(OUTPUT_FILES)) -> None:
+    """Create the folder ``out`` holding the outputs of ``result`` (default all), or nothing at all.
 
     Raises:
         InputError: ``out`` exists and is not empty, or its parent does not exist.
     """
-    populate_directory(out, lambda d: write_outputs(result, d))
+    populate_directory(out, lambda d: write_outputs(result, d, files=files))
 
 
 def urdf_with_sidecar(urdf: str) -> str:
@@ -145,6 +179,7 @@ class CalibrateOptions:
         s2j: a fitted S2J model (``s2j.json``) instead of the constant vectors.
         side_check: refuse a trial whose calibrated hip is on the other side.
         order_check: refuse a trial whose sensor columns look swapped.
+        outputs: short names (:data:`OUTPUT_FILES`) of the files to write.
     """
 
     trial: Path
@@ -159,6 +194,7 @@ class CalibrateOptions:
     s2j: Path | None = None
     side_check: bool = True
     order_check: bool = True
+    outputs: frozenset[str] = frozenset(OUTPUT_FILES)
 
 
 def run_calibrate(options: CalibrateOptions) -> TrialResult:
@@ -177,6 +213,7 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
     s2j = None if options.s2j is None else read_s2j(Path(options.s2j))
     previous = None if options.calibration is None else read_calibration(Path(options.calibration))
     check_method(options.method)
+    files = check_outputs(options.outputs)
     print(
         f"calibrating {options.trial} ({trial.n_samples} samples at {trial.rate_hz:.4g} Hz, "
         f"{trial.duration_s:.1f} s, {trial.side} leg, method {options.method}, filter {options.filter_name})",
@@ -198,7 +235,7 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
             side_check=options.side_check,
         )
     _print_warnings(caught)
-    write_result(result, out)
+    write_result(result, out, files)
     cal = result.calibration
     print(f"joint calibration took {cal.runtime_s:.3f} s; wrote {out}/", file=sys.stderr)
     for name, joint in cal.joints.items():

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from lowerlimb.cli._common import EXIT_OK, add_side, positive_float
+from lowerlimb.cli._common import EXIT_OK, add_outputs, add_side, chosen_outputs, positive_float
 from lowerlimb.methods import CALIBRATION_METHODS, ORIENTATION_FILTERS
 
 
@@ -63,6 +63,7 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         action="store_true",
         help="do not refuse a trial whose thigh/shank or shank/foot columns look swapped",
     )
+    add_outputs(p)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -83,6 +84,7 @@ def run(args: argparse.Namespace) -> int:
             s2j=args.s2j,
             side_check=not args.no_side_check,
             order_check=not args.no_order_check,
+            outputs=chosen_outputs(args),
         )
     )
     return EXIT_OK

@@ -27,6 +27,7 @@ from ..errors import (
     UnitError,
 )
 from ..stillness import StillPeriod, detect_still_period
+from .numeric_csv import read_numeric_table
 
 #: Lowest sampling rate accepted, Hz: below it the time column is taken to be in ms.
 MIN_RATE_HZ = 5.0
@@ -230,7 +231,7 @@ class ImuTrial:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                raw = np.genfromtxt(path, delimiter=",", skip_header=1, dtype=float, ndmin=2)
+                raw = read_numeric_table(path, skip_header=1)
         except ValueError as e:
             raise InputError(f"{path} has rows of unequal length or bad cells ({e}); fix the CSV") from None
         if raw.size == 0:
