@@ -23,6 +23,7 @@ from .calibration.options import CalibrationOptions, check_method
 from .conventions import FloatArray
 from .errors import InputError
 from .io.atomic import check_new_directory, populate_directory
+from .io.result_files import OUTPUT_FILES, check_outputs
 from .io.tables import write_angles_csv, write_positions_csv
 from .io.trial import ImuTrial
 from .model.leg_model import LegModel
@@ -44,31 +45,7 @@ __all__ = [
 ]
 
 #: Name of the S2J sidecar written beside the URDF.
-S2J_SIDECAR = "s2j.json"
-
-#: The files of a result folder, by the short name ``--outputs`` takes (docs/formats.md).
-OUTPUT_FILES: dict[str, str] = {
-    "calibration": "calibration.json",
-    "angles": "angles.csv",
-    "positions": "positions.csv",
-    "s2j": S2J_SIDECAR,
-    "urdf": "calibrated.urdf",
-    "report": "report.html",
-}
-
-
-def check_outputs(names: Collection[str]) -> frozenset[str]:
-    """The set of output short names, checked against :data:`OUTPUT_FILES`.
-
-    Raises:
-        InputError: an unknown name, or none at all; the message lists the accepted ones.
-    """
-    unknown = sorted(set(names) - set(OUTPUT_FILES))
-    if unknown or not names:
-        what = f"unknown output {', '.join(map(repr, unknown))}" if unknown else "no output chosen"
-        raise InputError(f"{what}; choose among {', '.join(OUTPUT_FILES)}")
-    return frozenset(names)
-
+S2J_SIDECAR = OUTPUT_FILES["s2j"]
 
 def write_outputs(
     result: TrialResult,

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from lowerlimb.io.result_files import OUTPUT_FILES
+
 __all__ = ["ALL_OUTPUTS", "BatchParams"]
 
-#: Short names of every file of a result folder (:data:`lowerlimb.outputs.OUTPUT_FILES`).
-ALL_OUTPUTS: frozenset[str] = frozenset(("calibration", "angles", "positions", "s2j", "urdf", "report"))
+#: Short names of every file of a result folder (:data:`lowerlimb.io.result_files.OUTPUT_FILES`).
+ALL_OUTPUTS: frozenset[str] = frozenset(OUTPUT_FILES)
 
 
 @dataclass(frozen=True)

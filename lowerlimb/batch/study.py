@@ -17,6 +17,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from lowerlimb.errors import InputError
+from lowerlimb.io.result_files import OUTPUT_FILES, check_outputs
+from lowerlimb.methods import CALIBRATION_METHODS, ORIENTATION_FILTERS
 
 from .manifest import StudyTrial, read_study
 from .params import BatchParams
@@ -193,11 +195,10 @@ def _default_worker() -> Callable[[TrialJob], TrialOutcome]:
 
 
 def _checked(p: BatchParams) -> BatchParams:
-    from lowerlimb.calibration.options import check_method
-    from lowerlimb.methods import ORIENTATION_FILTERS
-    from lowerlimb.outputs import check_outputs
-
-    check_method(p.method)
+    if p.method not in CALIBRATION_METHODS:
+        raise InputError(
+            f"unknown calibration method {p.method!r}; use one of {', '.join(CALIBRATION_METHODS)}"
+        )
     if p.filter_name not in ORIENTATION_FILTERS:
         raise InputError(f"unknown filter {p.filter_name!r}; use one of {', '.join(ORIENTATION_FILTERS)}")
     if p.workers is not None and p.workers < 1:
@@ -225,8 +226,6 @@ def _plan(trial: StudyTrial, root: Path, p: BatchParams) -> tuple[TrialOutcome |
 
 
 def _complete(folder: Path, p: BatchParams) -> bool:
-    from lowerlimb.outputs import OUTPUT_FILES
-
     return all((folder / OUTPUT_FILES[name]).is_file() for name in p.outputs)
 
 
