@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -40,7 +41,17 @@ FAILED_DIR = ".failed"
 #: Values of ``status``.
 STATUSES: tuple[str, ...] = ("ok", "warning", "failed")
 #: First columns of ``batch.csv``; the key results follow.
-BATCH_COLUMNS: tuple[str, ...] = ("trial", "status", "reason", "wall_s", "subject", "task", "side", "folder")
+BATCH_COLUMNS: tuple[str, ...] = (
+    "trial",
+    "status",
+    "reason",
+    "wall_s",
+    "peak_rss_mb",
+    "subject",
+    "task",
+    "side",
+    "folder",
+)
 
 
 @dataclass(frozen=True)
@@ -72,6 +83,8 @@ class TrialOutcome:
         status: ``ok``, ``warning`` (processed; ``reason`` lists the warnings) or ``failed``.
         reason: one line: the warnings, or why the trial failed; ``""`` when ok.
         wall_s: wall time of reading, processing and writing, s.
+        peak_rss_mb: peak resident memory of the process that ran it so far, MB
+            (NaN where the platform does not tell).
         subject: subject identifier.
         task: task identifier.
         side: instrumented leg.
@@ -89,6 +102,7 @@ class TrialOutcome:
     status: str
     reason: str = ""
     wall_s: float = 0.0
+    peak_rss_mb: float = math.nan
     subject: str = ""
     task: str = ""
     side: str = ""
@@ -109,6 +123,7 @@ class TrialOutcome:
             "failed",
             " ".join(reason.split()),
             wall_s,
+            math.nan,
             trial.subject,
             trial.task,
             trial.side,
@@ -124,6 +139,7 @@ class TrialOutcome:
             "status": self.status,
             "reason": self.reason,
             "wall_s": round(self.wall_s, 3),
+            "peak_rss_mb": round(self.peak_rss_mb, 1),
             "subject": self.subject,
             "task": self.task,
             "side": self.side,

@@ -8,8 +8,10 @@ trial's folder is complete or absent. Any error becomes a ``failed`` outcome.
 
 from __future__ import annotations
 
+import math
 import os
 import shutil
+import sys
 import tempfile
 import time
 import warnings
@@ -57,6 +59,7 @@ def run_trial(job: TrialJob) -> TrialOutcome:
             "warning" if reason else "ok",
             reason,
             0.0,
+            math.nan,
             trial.subject,
             trial.task,
             trial.side,
@@ -69,6 +72,7 @@ def run_trial(job: TrialJob) -> TrialOutcome:
         def fill(d: Path) -> None:
             write_outputs(result, d, files=p.outputs)
             outcome.wall_s = time.perf_counter() - t0
+            outcome.peak_rss_mb = peak_rss_mb()
             from .record import write_record
 
             write_record(d / MARKER, outcome)
@@ -123,9 +127,20 @@ def replace_directory(out: Path, fill: Callable[[Path], None]) -> None:
             shutil.rmtree(old, ignore_errors=True)
 
 
+def peak_rss_mb() -> float:
+    """Peak resident memory of this process, MB (NaN where ``resource`` is missing)."""
+    try:
+        import resource
+    except ImportError:  # Windows
+        return math.nan
+    kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return kb / 1024.0 if sys.platform != "darwin" else kb / 1024.0**2
+
+
 def _failed(job: TrialJob, reason: str, failure: str, t0: float) -> TrialOutcome:
     out = TrialOutcome.failed(job.trial, reason, failure, job.digest, time.perf_counter() - t0)
     out.attempts = job.attempt
+    out.peak_rss_mb = peak_rss_mb()
     return out
 
 

@@ -27,7 +27,7 @@ lower factors bias the fast sensors, higher ones let α noise through.
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 from scipy.signal import butter, sosfiltfilt, welch
 
 from lowerlimb.conventions import FloatArray
@@ -156,7 +156,7 @@ def rigid_band_hz(
 
 def welch_spectra(
     a: FloatArray, b: FloatArray, rate_hz: float, nper: int
-) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.complex128]]:
     """Welch auto- and cross-spectra of two signals, as ``scipy.signal.welch``/``csd`` compute them.
 
     Hann window, half-overlapping segments of ``nper`` samples, each detrended by
@@ -171,7 +171,8 @@ def welch_spectra(
         nper: segment length, samples (≤ N).
 
     Returns:
-        ``(f, P_aa, P_bb, P_ab)``: frequencies (Hz) and the three spectra (unit²/Hz).
+        ``(f, P_aa, P_bb, P_ab)``: frequencies (Hz) and the three spectra (unit²/Hz;
+        the cross-spectrum is complex).
     """
     from scipy.signal import get_window
 
@@ -180,21 +181,20 @@ def welch_spectra(
     rows = np.arange(nper)[None, :] + step * np.arange(n_seg)[:, None]
     window = get_window("hann", nper)
 
-    def segments(x: FloatArray) -> FloatArray:
+    def segments(x: FloatArray) -> NDArray[np.complex128]:
         s = x[rows]
-        return np.asarray(np.fft.rfft((s - s.mean(axis=1, keepdims=True)) * window, axis=1))
+        return np.fft.rfft((s - s.mean(axis=1, keepdims=True)) * window, axis=1)
 
     A, B = segments(a), segments(b)
     scale = 1.0 / (rate_hz * float(window @ window))
-    spectra = [
-        (A.real**2 + A.imag**2).mean(axis=0) * scale,
-        (B.real**2 + B.imag**2).mean(axis=0) * scale,
-        (np.conj(A) * B).mean(axis=0) * scale,
-    ]
-    doubled = slice(1, -1) if nper % 2 == 0 else slice(1, None)  # one-sided: all but DC (and Nyquist)
-    for P in spectra:
-        P[doubled] *= 2.0
-    return np.fft.rfftfreq(nper, 1.0 / rate_hz), spectra[0], spectra[1], spectra[2]
+    doubled = np.full(nper // 2 + 1, 2.0)  # one-sided: every bin but DC (and Nyquist) twice
+    doubled[0] = 1.0
+    if nper % 2 == 0:
+        doubled[-1] = 1.0
+    P_aa = np.asarray((A.real**2 + A.imag**2).mean(axis=0) * scale * doubled, dtype=float)
+    P_bb = np.asarray((B.real**2 + B.imag**2).mean(axis=0) * scale * doubled, dtype=float)
+    P_ab = np.asarray((np.conj(A) * B).mean(axis=0) * scale * doubled, dtype=np.complex128)
+    return np.asarray(np.fft.rfftfreq(nper, 1.0 / rate_hz), dtype=float), P_aa, P_bb, P_ab
 
 
 def lowpass(x: ArrayLike, rate_hz: float, cutoff_hz: float | None, order: int = 4) -> FloatArray:
