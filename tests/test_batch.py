@@ -134,6 +134,10 @@ def test_folder_of_trials_and_leftovers_of_a_killed_run(tmp_path):
     (out / "s2__walk_1" / "angles.csv").write_text("partial")
     result = run_study(tmp_path / "in", out, FAST)
     assert result.processed == 2 and not result.failed
+    # an output folder inside the trials' folder holds no trial
+    inside = run_study(tmp_path / "in", tmp_path / "in" / "results", FAST)
+    assert inside.processed == 2
+    assert run_study(tmp_path / "in", tmp_path / "in" / "results", FAST).processed == 0
     assert json.loads((out / "s2__walk_1" / MARKER).read_text())["status"] in ("ok", "warning")
     assert (out / "s2__walk_1" / "angles.csv").read_text().startswith("time,")
 

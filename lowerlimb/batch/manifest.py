@@ -67,10 +67,16 @@ class StudyTrial:
     calibration: Path | None = None
 
 
-def read_study(source: str | os.PathLike[str], params: BatchParams | None = None) -> list[StudyTrial]:
+def read_study(
+    source: str | os.PathLike[str],
+    params: BatchParams | None = None,
+    *,
+    exclude: str | os.PathLike[str] | None = None,
+) -> list[StudyTrial]:
     """The trials of a manifest CSV, or of every ``*.csv`` under a folder (sorted).
 
-    In a folder, a trial in a sub-folder takes the sub-folder's name as its subject.
+    In a folder, a trial in a sub-folder takes the sub-folder's name as its subject;
+    files under ``exclude`` (the study's output folder, when it lies inside) are not trials.
 
     Raises:
         FileNotFoundError: ``source`` does not exist.
@@ -82,11 +88,13 @@ def read_study(source: str | os.PathLike[str], params: BatchParams | None = None
     if not src.exists():
         raise FileNotFoundError(f"manifest or folder not found: {src}")
     if src.is_dir():
+        skip = Path(exclude).resolve() if exclude is not None else None
         rows = [
             {"trial": f.relative_to(src).as_posix(), "subject": _subject_of(f.relative_to(src))}
             for f in sorted(src.rglob("*.csv"))
             if f.name not in _NOT_TRIALS
             and not any(part.startswith(".") for part in f.relative_to(src).parts)
+            and not (skip is not None and f.resolve().is_relative_to(skip))
         ]
         base = src
     else:

@@ -46,6 +46,7 @@ BATCH_COLUMNS: tuple[str, ...] = (
     "status",
     "reason",
     "wall_s",
+    "cpu_s",
     "peak_rss_mb",
     "subject",
     "task",
@@ -83,6 +84,7 @@ class TrialOutcome:
         status: ``ok``, ``warning`` (processed; ``reason`` lists the warnings) or ``failed``.
         reason: one line: the warnings, or why the trial failed; ``""`` when ok.
         wall_s: wall time of reading, processing and writing, s.
+        cpu_s: CPU time of the process that ran it, over this trial, s.
         peak_rss_mb: peak resident memory of the process that ran it so far, MB
             (NaN where the platform does not tell).
         subject: subject identifier.
@@ -102,6 +104,7 @@ class TrialOutcome:
     status: str
     reason: str = ""
     wall_s: float = 0.0
+    cpu_s: float = math.nan
     peak_rss_mb: float = math.nan
     subject: str = ""
     task: str = ""
@@ -124,6 +127,7 @@ class TrialOutcome:
             " ".join(reason.split()),
             wall_s,
             math.nan,
+            math.nan,
             trial.subject,
             trial.task,
             trial.side,
@@ -139,6 +143,7 @@ class TrialOutcome:
             "status": self.status,
             "reason": self.reason,
             "wall_s": round(self.wall_s, 3),
+            "cpu_s": round(self.cpu_s, 3),
             "peak_rss_mb": round(self.peak_rss_mb, 1),
             "subject": self.subject,
             "task": self.task,

@@ -97,7 +97,7 @@ def run_study(
     """
     t0 = time.perf_counter()
     p = _checked(params or BatchParams())
-    trials = read_study(source, p)
+    trials = read_study(source, p, exclude=out)
     root = Path(out)
     if root.exists() and not root.is_dir():
         raise InputError(f"{root} is a file; give a folder for --out")

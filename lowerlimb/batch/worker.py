@@ -36,7 +36,7 @@ _INPUT_ERRORS = (InputError, FileNotFoundError, IsADirectoryError, PermissionErr
 
 def run_trial(job: TrialJob) -> TrialOutcome:
     """Process one trial and write its folder ``job.out / job.trial.name``; never raises."""
-    t0 = time.perf_counter()
+    t0, cpu0 = time.perf_counter(), time.process_time()
     trial, p = job.trial, job.params
     try:
         with warnings.catch_warnings(record=True) as caught:
@@ -60,6 +60,7 @@ def run_trial(job: TrialJob) -> TrialOutcome:
             reason,
             0.0,
             math.nan,
+            math.nan,
             trial.subject,
             trial.task,
             trial.side,
@@ -72,6 +73,7 @@ def run_trial(job: TrialJob) -> TrialOutcome:
         def fill(d: Path) -> None:
             write_outputs(result, d, files=p.outputs)
             outcome.wall_s = time.perf_counter() - t0
+            outcome.cpu_s = time.process_time() - cpu0
             outcome.peak_rss_mb = peak_rss_mb()
             from .record import write_record
 
