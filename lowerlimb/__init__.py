@@ -26,6 +26,7 @@ _EXPORTS = {
     "estimate_orientation": "orientation",
     "load_calibrated": "outputs",
     "process_trial": "pipeline",
+    "process_study": "batch",
     "ImuNoise": "simulation",
     "simulate": "simulation",
     "ImuTrial": "io.trial",
@@ -45,6 +46,7 @@ __all__ = [
     "estimate_joint_center",
     "estimate_orientation",
     "load_calibrated",
+    "process_study",
     "process_trial",
     "read_mapped_csv",
     "read_xsens",
@@ -52,6 +54,7 @@ __all__ = [
 ]
 
 if TYPE_CHECKING:
+    from .batch import process_study
     from .calibration import calibrate_leg, estimate_hinge_axis, estimate_joint_center
     from .errors import InputError, LowerLimbError
     from .io import read_mapped_csv, read_xsens

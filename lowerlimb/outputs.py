@@ -15,7 +15,7 @@ import hashlib
 import json
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -32,6 +32,7 @@ from .export.result import check_export_formats, write_exports, write_units_side
 from .io.atomic import check_new_directory, populate_directory
 from .io.bounds import INPUT_BOUNDS, InputBounds, check_range, check_vectors
 from .io.interrupts import check_interrupted
+from .io.result_files import OUTPUT_FILES, check_outputs
 from .io.tables import write_angles_csv, write_positions_csv
 from .io.trial import ImuTrial
 from .methods import ORIENTATION_FILTERS
@@ -40,10 +41,12 @@ from .pipeline import TrialResult, process_trial
 from .s2j import S2JModel
 
 __all__ = [
+    "OUTPUT_FILES",
     "S2J_SIDECAR",
     "CalibrateOptions",
     "build_provenance",
     "check_options",
+    "check_outputs",
     "load_calibrated",
     "read_calibration",
     "read_s2j",
@@ -55,8 +58,7 @@ __all__ = [
 ]
 
 #: Name of the S2J sidecar written beside the URDF.
-S2J_SIDECAR = "s2j.json"
-
+S2J_SIDECAR = OUTPUT_FILES["s2j"]
 
 def write_outputs(
     result: TrialResult,
@@ -68,8 +70,9 @@ def write_outputs(
     exports: Sequence[str] = (),
     agreement: Comparison | None = None,
     reference_name: str = "",
+    files: Collection[str] = tuple(OUTPUT_FILES),
 ) -> None:
-    """Write every output of a processed trial (docs/formats.md) into ``directory``.
+    """Write the outputs of a processed trial (docs/formats.md) into ``directory``.
 
     Args:
         result: the processed trial.
@@ -80,23 +83,30 @@ def write_outputs(
         exports: export formats (:data:`lowerlimb.export.formats.EXPORT_FORMATS`) to add.
         agreement: a comparison with a reference, shown in the report.
         reference_name: the reference file's name, for the report.
+        files: short names (:data:`OUTPUT_FILES`) of the files to write; default all.
     """
     d = result.calibration_dict()
     if provenance is not None:
         d["provenance"] = provenance
-    d["urdf"] = "calibrated.urdf"
+    d["urdf"] = OUTPUT_FILES["urdf"]
     d["s2j"] = S2J_SIDECAR
-    (directory / "calibration.json").write_text(json.dumps(d, indent=2), encoding="utf-8")
-    write_angles_csv(directory / "angles.csv", result.trial.time_s, result.angles_rad)
-    write_positions_csv(directory / "positions.csv", result.trial.time_s, result.positions_m)
-    write_units_sidecars(directory)
+    if "calibration" in files:
+        (directory / "calibration.json").write_text(json.dumps(d, indent=2), encoding="utf-8")
+    if "angles" in files:
+        write_angles_csv(directory / "angles.csv", result.trial.time_s, result.angles_rad)
+    if "positions" in files:
+        write_positions_csv(directory / "positions.csv", result.trial.time_s, result.positions_m)
+    write_units_sidecars(directory, [t for t in ("angles", "positions") if t in files])
     write_exports(result, directory, exports)
-    (directory / S2J_SIDECAR).write_text(json.dumps(result.s2j.to_dict(), indent=1), encoding="utf-8")
-    (directory / "calibrated.urdf").write_text(
-        urdf_with_sidecar(result.model.to_urdf_string()), encoding="utf-8"
-    )
-    sections = [] if agreement is None else [agreement_section_html(agreement, reference_name)]
-    _write_report(result, directory, d, truth_angles_rad, truth_positions_m, sections)
+    if "s2j" in files:
+        (directory / S2J_SIDECAR).write_text(json.dumps(result.s2j.to_dict(), indent=1), encoding="utf-8")
+    if "urdf" in files:
+        (directory / "calibrated.urdf").write_text(
+            urdf_with_sidecar(result.model.to_urdf_string()), encoding="utf-8"
+        )
+    if "report" in files:
+        sections = [] if agreement is None else [agreement_section_html(agreement, reference_name)]
+        _write_report(result, directory, d, truth_angles_rad, truth_positions_m, sections)
 
 
 def write_result(
@@ -107,8 +117,9 @@ def write_result(
     exports: Sequence[str] = (),
     agreement: Comparison | None = None,
     reference_name: str = "",
+    files: Collection[str] = tuple(OUTPUT_FILES),
 ) -> None:
-    """Create the folder ``out`` holding every output of ``result``, or nothing at all.
+    """Create the folder ``out`` holding the outputs of ``result`` (default all), or nothing at all.
 
     Args:
         result: the processed trial.
@@ -117,6 +128,7 @@ def write_result(
         exports: export formats to add (:func:`write_outputs`).
         agreement: a comparison with a reference, shown in the report.
         reference_name: the reference file's name, for the report.
+        files: short names (:data:`OUTPUT_FILES`) of the files to write; default all.
 
     Raises:
         InputError: ``out`` exists and is not empty, or its parent does not exist.
@@ -130,6 +142,7 @@ def write_result(
             exports=exports,
             agreement=agreement,
             reference_name=reference_name,
+            files=files,
         ),
     )
 
@@ -203,6 +216,7 @@ class CalibrateOptions:
         exports: extra formats to write (``"opensim"``, ``"bids"``; docs/exports.md).
         reference: a reference CSV (``time`` and columns named as ours, deg / m) whose
             agreement with the result goes into ``report.html``.
+        outputs: short names (:data:`OUTPUT_FILES`) of the files to write.
     """
 
     trial: Path
@@ -219,6 +233,7 @@ class CalibrateOptions:
     order_check: bool = True
     exports: tuple[str, ...] = ()
     reference: Path | None = None
+    outputs: frozenset[str] = frozenset(OUTPUT_FILES)
 
 
 def check_options(options: CalibrateOptions, bounds: InputBounds = INPUT_BOUNDS) -> None:
@@ -269,6 +284,7 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
     check_interrupted()
     exports = check_export_formats(options.exports)
     reference = None if options.reference is None else read_reference(options.reference)
+    files = check_outputs(options.outputs)
     print(
         f"calibrating {options.trial} ({trial.n_samples} samples at {trial.rate_hz:.4g} Hz, "
         f"{trial.duration_s:.1f} s, {trial.side} leg, method {options.method}, filter {options.filter_name})",
@@ -300,6 +316,7 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
         exports=exports,
         agreement=agreement,
         reference_name=str(options.reference or ""),
+        files=files,
     )
     cal = result.calibration
     if options.calibration is not None:

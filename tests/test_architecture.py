@@ -34,7 +34,7 @@ LAYERS: list[set[str]] = [
     {"pipeline"},
     {"viz", "export", "agreement", "bilateral"},
     {"outputs"},
-    {"demo", "outputs_bilateral"},
+    {"demo", "outputs_bilateral", "batch"},
     {"cli"},
 ]
 LAYER_OF = {unit: k for k, layer in enumerate(LAYERS) for unit in layer}

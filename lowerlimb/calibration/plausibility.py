@@ -29,6 +29,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from lowerlimb.calibration._prepare import PreparedSignals, joint_signals
+from lowerlimb.calibration._solve import subsample_step
 from lowerlimb.calibration.joint_center import fit_spherical
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.conventions import FloatArray
@@ -48,11 +49,15 @@ class PlausibilityParams:
             segment frame, beyond which the side is decided, m.
         side_max_offset_m: beyond this lateral offset the hip centre itself is
             implausible (a poor calibration) and no side verdict is given, m.
+        order_check_samples: the swap test fits each pairing on at most this many
+            evenly spaced samples (it compares two residual levels; a long trial's
+            every sample only makes it slower).
     """
 
     swap_ratio: float = 0.7
     side_min_offset_m: float = 0.03
     side_max_offset_m: float = 0.2
+    order_check_samples: int = 6000
 
 
 class SensorOrderError(InputError):
@@ -91,9 +96,11 @@ def _residual(
     parent: str,
     child: str,
     options: CalibrationOptions,
+    max_samples: int,
 ) -> float:
     quiet = replace(options, center_std_tol_m=np.inf, min_rms_rate_rps=0.0)
     data = joint_signals(acc, gyr, sig, parent, child, quiet)
+    data = data.subsample(subsample_step(data.n_samples, max_samples))
     return fit_spherical(data, method="gn", options=quiet).rms_residual
 
 
@@ -117,20 +124,21 @@ def check_sensor_order(
         SensorOrderError: naming the two sensors and both residuals.
     """
     p = params or PlausibilityParams()
+    n = p.order_check_samples
     # thigh/shank exchanged: hip(pelvis, thigh) + ankle(shank, foot) against
     # hip(pelvis, shank) + ankle(thigh, foot); the knee pair is the same either way
-    assumed = _residual(acc, gyr, sig, "pelvis", "thigh", options) + _residual(
-        acc, gyr, sig, "shank", "foot", options
+    assumed = _residual(acc, gyr, sig, "pelvis", "thigh", options, n) + _residual(
+        acc, gyr, sig, "shank", "foot", options, n
     )
-    swapped = _residual(acc, gyr, sig, "pelvis", "shank", options) + _residual(
-        acc, gyr, sig, "thigh", "foot", options
+    swapped = _residual(acc, gyr, sig, "pelvis", "shank", options, n) + _residual(
+        acc, gyr, sig, "thigh", "foot", options, n
     )
     if swapped < p.swap_ratio * assumed:
         raise SensorOrderError("thigh", "shank", assumed, swapped, "hip and ankle")
     # shank/foot exchanged: knee(thigh, shank) against knee(thigh, foot); the ankle
     # pair is the same either way and the hip does not involve them
-    assumed = _residual(acc, gyr, sig, "thigh", "shank", options)
-    swapped = _residual(acc, gyr, sig, "thigh", "foot", options)
+    assumed = _residual(acc, gyr, sig, "thigh", "shank", options, n)
+    swapped = _residual(acc, gyr, sig, "thigh", "foot", options, n)
     if swapped < p.swap_ratio * assumed:
         raise SensorOrderError("shank", "foot", assumed, swapped, "knee")
 

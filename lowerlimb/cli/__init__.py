@@ -19,7 +19,7 @@ from collections.abc import Callable, Sequence
 from types import ModuleType
 
 from lowerlimb import __version__
-from lowerlimb.cli import calibrate, compare, demo, import_, simulate, view
+from lowerlimb.cli import batch, calibrate, compare, demo, import_, simulate, view
 from lowerlimb.cli._common import EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_OK, Parser, UsageError
 from lowerlimb.errors import InputError, LowerLimbError
 
@@ -29,6 +29,7 @@ __all__ = ["COMMANDS", "EXIT_BAD_INPUT", "EXIT_INTERNAL", "EXIT_OK", "UsageError
 COMMAND_MODULES: dict[str, ModuleType] = {
     "simulate": simulate,
     "calibrate": calibrate,
+    "batch": batch,
     "demo": demo,
     "view": view,
     "import": import_,

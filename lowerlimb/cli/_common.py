@@ -39,3 +39,28 @@ def add_side(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--side", choices=("left", "right"), default="left", help="instrumented leg (default: left)"
     )
+
+
+#: Short names of the files of a result folder (``lowerlimb.outputs.OUTPUT_FILES``, kept
+#: here too so that ``--help`` imports no computing module; a test checks they agree).
+OUTPUT_NAMES: tuple[str, ...] = ("calibration", "angles", "positions", "s2j", "urdf", "report")
+
+
+def add_outputs(parser: argparse.ArgumentParser) -> None:
+    """``--outputs NAME,NAME…`` and ``--no-report``: which files of the result folder to write."""
+    parser.add_argument(
+        "--outputs",
+        type=lambda text: tuple(n.strip() for n in text.split(",") if n.strip()),
+        default=OUTPUT_NAMES,
+        metavar="NAME,…",
+        help=f"files to write, comma-separated among {','.join(OUTPUT_NAMES)} (default: all)",
+    )
+    parser.add_argument("--no-report", action="store_true", help="do not write report.html (faster)")
+
+
+def chosen_outputs(args: argparse.Namespace) -> frozenset[str]:
+    """The output names chosen by :func:`add_outputs`' arguments (unchecked)."""
+    names = set(args.outputs)
+    if args.no_report:
+        names.discard("report")
+    return frozenset(names)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from lowerlimb.cli._common import EXIT_OK, add_side, positive_float
+from lowerlimb.cli._common import EXIT_OK, add_outputs, add_side, chosen_outputs, positive_float
 from lowerlimb.errors import InputError
 from lowerlimb.export.formats import EXPORT_FORMATS
 from lowerlimb.methods import CALIBRATION_METHODS, ORIENTATION_FILTERS
@@ -82,6 +82,7 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         help="reference CSV ('time' in s and columns named as in angles.csv (deg) / positions.csv (m)); "
         "adds its agreement (RMSE, bias, limits of agreement, r, CMC, Bland-Altman plots) to report.html",
     )
+    add_outputs(p)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -110,6 +111,7 @@ def run(args: argparse.Namespace) -> int:
         order_check=not args.no_order_check,
         exports=tuple(args.export),
         reference=args.reference,
+        outputs=chosen_outputs(args),
     )
     if two_legs:
         from lowerlimb.outputs_bilateral import run_calibrate_bilateral

@@ -27,8 +27,8 @@ lower factors bias the fast sensors, higher ones let α noise through.
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import ArrayLike
-from scipy.signal import butter, coherence, sosfiltfilt, welch
+from numpy.typing import ArrayLike, NDArray
+from scipy.signal import butter, sosfiltfilt, welch
 
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError
@@ -141,16 +141,60 @@ def rigid_band_hz(
     if a.shape[0] < 4 * nper or nper < 8:
         return None
     a, b = a - a.mean(), b - b.mean()
-    f, C = coherence(a, b, fs=rate_hz, nperseg=nper)
+    f, P_aa, P_bb, P_ab = welch_spectra(a, b, rate_hz, nper)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        C = np.abs(P_ab) ** 2 / P_aa / P_bb
     smooth = np.convolve(np.nan_to_num(C), np.ones(3) / 3.0, mode="same")
     level = 10.0 ** (power_db / 10.0)
     strong = np.zeros(f.shape, dtype=bool)
-    for x in (a, b):
-        P = np.asarray(welch(x, fs=rate_hz, nperseg=nper)[1], dtype=float)
+    for P in (P_aa, P_bb):
         strong |= P >= level * max(float(P.max()), 1e-30)
     start = int(np.searchsorted(f, start_hz))
     below = np.flatnonzero((smooth[start:] < threshold) & strong[start:])
     return float(f[start + below[0]]) if below.size else None
+
+
+def welch_spectra(
+    a: FloatArray, b: FloatArray, rate_hz: float, nper: int
+) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.complex128]]:
+    """Welch auto- and cross-spectra of two signals, as ``scipy.signal.welch``/``csd`` compute them.
+
+    Hann window, half-overlapping segments of ``nper`` samples, each detrended by
+    its mean, one-sided power spectral densities: the same numbers (to rounding) as
+    ``welch(a)``, ``welch(b)`` and ``csd(a, b)`` with ``nperseg=nper``, in one pass
+    over strided segments instead of a Python call per segment.
+
+    Args:
+        a: (N,) first signal.
+        b: (N,) second signal, same length.
+        rate_hz: sampling rate, Hz.
+        nper: segment length, samples (≤ N).
+
+    Returns:
+        ``(f, P_aa, P_bb, P_ab)``: frequencies (Hz) and the three spectra (unit²/Hz;
+        the cross-spectrum is complex).
+    """
+    from scipy.signal import get_window
+
+    step = nper - nper // 2
+    n_seg = (a.shape[0] - nper) // step + 1
+    rows = np.arange(nper)[None, :] + step * np.arange(n_seg)[:, None]
+    window = get_window("hann", nper)
+
+    def segments(x: FloatArray) -> NDArray[np.complex128]:
+        s = x[rows]
+        return np.fft.rfft((s - s.mean(axis=1, keepdims=True)) * window, axis=1)
+
+    A, B = segments(a), segments(b)
+    scale = 1.0 / (rate_hz * float(window @ window))
+    doubled = np.full(nper // 2 + 1, 2.0)  # one-sided: every bin but DC (and Nyquist) twice
+    doubled[0] = 1.0
+    if nper % 2 == 0:
+        doubled[-1] = 1.0
+    P_aa = np.asarray((A.real**2 + A.imag**2).mean(axis=0) * scale * doubled, dtype=float)
+    P_bb = np.asarray((B.real**2 + B.imag**2).mean(axis=0) * scale * doubled, dtype=float)
+    P_ab = np.asarray((np.conj(A) * B).mean(axis=0) * scale * doubled, dtype=np.complex128)
+    return np.asarray(np.fft.rfftfreq(nper, 1.0 / rate_hz), dtype=float), P_aa, P_bb, P_ab
 
 
 def lowpass(x: ArrayLike, rate_hz: float, cutoff_hz: float | None, order: int = 4) -> FloatArray:

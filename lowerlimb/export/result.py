@@ -44,11 +44,14 @@ def check_export_formats(formats: Iterable[str]) -> tuple[str, ...]:
     return tuple(f for f in EXPORT_FORMATS if f in wanted)
 
 
-def write_units_sidecars(directory: Path) -> list[str]:
-    """Write ``angles.units.json`` and ``positions.units.json`` beside the tables; returns the names."""
-    write_units_sidecar(directory / "angles.units.json", ANGLE_COLUMNS, "angles")
-    write_units_sidecar(directory / "positions.units.json", POSITION_COLUMNS, "positions")
-    return ["angles.units.json", "positions.units.json"]
+def write_units_sidecars(directory: Path, tables: Iterable[str] = ("angles", "positions")) -> list[str]:
+    """Write ``<table>.units.json`` beside each of ``tables`` (angles, positions); returns the names."""
+    columns = {"angles": ANGLE_COLUMNS, "positions": POSITION_COLUMNS}
+    names = []
+    for table in tables:
+        write_units_sidecar(directory / f"{table}.units.json", columns[table], table)
+        names.append(f"{table}.units.json")
+    return names
 
 
 def write_exports(result: TrialResult, directory: Path, formats: Iterable[str]) -> list[str]:

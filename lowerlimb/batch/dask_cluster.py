@@ -1,0 +1,79 @@
+"""The Dask backend: the same jobs and worker function on a ``dask.distributed`` cluster.
+
+Needs the optional extra ``lowerlimb[cluster]``. The study's input and output folders
+must be visible at the same paths on every worker (a shared file system). A worker
+that dies is handled by the scheduler: it re-runs the trial on another worker and
+gives up after ``distributed.scheduler.allowed-failures`` deaths (set it to 1 on
+your scheduler for "retried once"; the clusters made here use 1); the trial is then
+marked failed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from typing import Any
+
+from lowerlimb.errors import InputError
+
+from .record import TrialJob, TrialOutcome
+
+__all__ = ["run_dask"]
+
+
+def run_dask(
+    func: Callable[[TrialJob], TrialOutcome],
+    jobs: Iterable[TrialJob],
+    *,
+    scheduler: Any,
+    on_done: Callable[[TrialOutcome], None],
+) -> None:
+    """Run ``func`` on every job on a Dask cluster; ``on_done`` gets each outcome as it comes.
+
+    Args:
+        func: a module-level function, never raising.
+        jobs: the work.
+        scheduler: the scheduler's address (``tcp://host:8786``), or a
+            ``distributed.Client`` or cluster object (``LocalCluster``…).
+        on_done: called in this process with each outcome, in completion order.
+
+    Raises:
+        InputError: dask.distributed is not installed, or the scheduler cannot be reached.
+    """
+    try:
+        from distributed import Client, as_completed
+        from distributed.scheduler import KilledWorker
+    except ImportError:
+        raise InputError(
+            "--scheduler needs dask.distributed; install it with pip install 'lowerlimb[cluster]'"
+        ) from None
+    own = not isinstance(scheduler, Client)
+    try:
+        client = Client(scheduler) if own else scheduler
+    except OSError as e:
+        raise InputError(f"cannot reach the Dask scheduler {scheduler}: {e}; check the address") from None
+    try:
+        jobs = list(jobs)
+        futures = {
+            client.submit(func, job, key=f"lowerlimb-{job.trial.name}-{job.digest[:12]}", pure=False): job
+            for job in jobs
+        }
+        for future in as_completed(futures):
+            job = futures[future]
+            try:
+                outcome = future.result()
+            except KilledWorker:
+                outcome = TrialOutcome.failed(
+                    job.trial,
+                    "the worker process died while processing it, on every retry the scheduler "
+                    "allowed (killed, out of memory or a crash); run 'lowerlimb calibrate' on it alone",
+                    "died",
+                    job.digest,
+                )
+            except Exception as e:  # the cluster lost it (cancelled, communication): recorded
+                outcome = TrialOutcome.failed(
+                    job.trial, f"internal error ({type(e).__name__}): {e}", "internal", job.digest
+                )
+            on_done(outcome)
+    finally:
+        if own:
+            client.close()

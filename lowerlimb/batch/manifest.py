@@ -1,0 +1,181 @@
+"""The trials of a study: a manifest CSV (one row per trial) or every trial CSV of a folder.
+
+Manifest columns (docs/formats.md, "Many trials"): ``trial`` (path, relative to the
+manifest), optional ``side``, ``subject``, ``task``, ``height_m``, ``mass_kg`` and
+``calibration`` (an earlier ``calibration.json`` to reuse, relative to the manifest).
+Other columns are ignored. Each trial gets an output folder named after its path
+relative to the manifest (``s01/walk.csv`` → ``s01__walk``).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from lowerlimb.errors import InputError
+
+from .params import BatchParams
+
+__all__ = ["MANIFEST_COLUMNS", "ManifestError", "StudyTrial", "read_study"]
+
+#: Columns a manifest may have; ``trial`` is required.
+MANIFEST_COLUMNS: tuple[str, ...] = ("trial", "side", "subject", "task", "height_m", "mass_kg", "calibration")
+
+#: Files of a folder that are not trials.
+_NOT_TRIALS = frozenset({"batch.csv", "manifest.csv", "study_subjects.csv", "study_tasks.csv"})
+
+
+class ManifestError(InputError):
+    """The manifest cannot be used; ``row`` is its 1-based data row (0: the file or header)."""
+
+    def __init__(self, path: str | os.PathLike[str], problem: str, row: int = 0) -> None:
+        self.path = os.fspath(path)
+        self.problem = problem
+        self.row = row
+        where = f"{self.path}, row {row}" if row else self.path
+        super().__init__(f"{where}: {problem}")
+
+
+@dataclass(frozen=True)
+class StudyTrial:
+    """One trial of a study.
+
+    Attributes:
+        name: its output folder name (unique in the study).
+        path: the trial CSV.
+        label: the trial as the manifest gives it (``batch.csv``'s ``trial`` column).
+        side: instrumented leg.
+        subject: subject identifier, ``""`` when unknown.
+        task: task identifier, ``""`` when unknown.
+        height_m: subject stature, m.
+        mass_kg: subject mass, kg.
+        calibration: an earlier ``calibration.json`` to reuse, or ``None``.
+    """
+
+    name: str
+    path: Path
+    label: str
+    side: str
+    subject: str = ""
+    task: str = ""
+    height_m: float = 1.75
+    mass_kg: float = 75.0
+    calibration: Path | None = None
+
+
+def read_study(
+    source: str | os.PathLike[str],
+    params: BatchParams | None = None,
+    *,
+    exclude: str | os.PathLike[str] | None = None,
+) -> list[StudyTrial]:
+    """The trials of a manifest CSV, or of every ``*.csv`` under a folder (sorted).
+
+    In a folder, a trial in a sub-folder takes the sub-folder's name as its subject;
+    files under ``exclude`` (the study's output folder, when it lies inside) are not trials.
+
+    Raises:
+        FileNotFoundError: ``source`` does not exist.
+        ManifestError: no ``trial`` column, a bad ``side``/``height_m``/``mass_kg``
+            value, the same trial twice, two trials with the same folder name, or no trial.
+    """
+    p = params or BatchParams()
+    src = Path(source)
+    if not src.exists():
+        raise FileNotFoundError(f"manifest or folder not found: {src}")
+    if src.is_dir():
+        skip = Path(exclude).resolve() if exclude is not None else None
+        rows = [
+            {"trial": f.relative_to(src).as_posix(), "subject": _subject_of(f.relative_to(src))}
+            for f in sorted(src.rglob("*.csv"))
+            if f.name not in _NOT_TRIALS
+            and not any(part.startswith(".") for part in f.relative_to(src).parts)
+            and not (skip is not None and f.resolve().is_relative_to(skip))
+        ]
+        base = src
+    else:
+        rows = _read_rows(src)
+        base = src.parent
+    trials = [_trial_of(row, k, base, src, p) for k, row in enumerate(rows, start=1)]
+    if not trials:
+        raise ManifestError(
+            src, "no trial found; list trial CSVs in a 'trial' column or give a folder of them"
+        )
+    _check_unique(trials, src)
+    return trials
+
+
+def _subject_of(relative: Path) -> str:
+    return relative.parts[0] if len(relative.parts) > 1 else ""
+
+
+def _read_rows(path: Path) -> list[dict[str, str]]:
+    with open(path, newline="", encoding="utf-8-sig") as f:
+        reader = csv.DictReader(f)
+        header = [h.strip() for h in (reader.fieldnames or [])]
+        if "trial" not in header:
+            raise ManifestError(
+                path,
+                f"no 'trial' column (columns: {', '.join(header) or 'none'}); "
+                f"a manifest has the columns {', '.join(MANIFEST_COLUMNS)} (only 'trial' is required)",
+            )
+        rows = []
+        for row in reader:
+            clean = {(k or "").strip(): (v or "").strip() for k, v in row.items() if isinstance(v, str)}
+            rows.append(clean)
+        return rows
+
+
+def _trial_of(row: dict[str, str], k: int, base: Path, src: Path, p: BatchParams) -> StudyTrial:
+    label = row.get("trial", "")
+    if not label:
+        raise ManifestError(src, "empty 'trial' cell; give the trial CSV's path", k)
+    side = row.get("side") or p.default_side
+    if side not in ("left", "right"):
+        raise ManifestError(src, f"side {side!r}; use left or right", k)
+    calibration = row.get("calibration") or ""
+    return StudyTrial(
+        name=_folder_name(label),
+        path=base / label,
+        label=label,
+        side=side,
+        subject=row.get("subject", ""),
+        task=row.get("task", ""),
+        height_m=_positive(row.get("height_m"), "height_m", p.default_height_m, src, k),
+        mass_kg=_positive(row.get("mass_kg"), "mass_kg", p.default_mass_kg, src, k),
+        calibration=base / calibration if calibration else None,
+    )
+
+
+def _positive(text: str | None, column: str, default: float, src: Path, k: int) -> float:
+    if not text:
+        return default
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise ManifestError(src, f"{column} {text!r} is not a positive number", k)
+    return value
+
+
+def _folder_name(label: str) -> str:
+    parts = [part for part in Path(label).with_suffix("").parts if part not in ("", ".", "..", "/")]
+    name = "__".join(parts).replace(" ", "_")
+    return name or "trial"
+
+
+def _check_unique(trials: Sequence[StudyTrial], src: Path) -> None:
+    seen: dict[str, str] = {}
+    for k, t in enumerate(trials, start=1):
+        key = t.name.lower()  # case-insensitive file systems
+        if key in seen:
+            what = "the same trial twice" if seen[key] == t.label else f"{seen[key]!r} and {t.label!r}"
+            raise ManifestError(
+                src, f"{what} would share the output folder {t.name!r}; list each trial once", k
+            )
+        seen[key] = t.label

@@ -1,0 +1,54 @@
+"""How a study is processed: every option and threshold of ``lowerlimb batch`` in one place."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from lowerlimb.io.result_files import OUTPUT_FILES
+
+__all__ = ["ALL_OUTPUTS", "BatchParams"]
+
+#: Short names of every file of a result folder (:data:`lowerlimb.io.result_files.OUTPUT_FILES`).
+ALL_OUTPUTS: frozenset[str] = frozenset(OUTPUT_FILES)
+
+
+@dataclass(frozen=True)
+class BatchParams:
+    """Options of a study run (defaults: ``lowerlimb calibrate``'s).
+
+    Attributes:
+        method: joint-constraint solver (:data:`lowerlimb.methods.CALIBRATION_METHODS`).
+        filter_name: orientation filter (:data:`lowerlimb.methods.ORIENTATION_FILTERS`).
+        use_mag: fuse the magnetometer when a trial has one.
+        outputs: short names of the files written per trial.
+        workers: local worker processes; ``None``: one per core.
+        force: redo trials whose outputs are complete and up to date.
+        retries: times a trial whose worker process died is run again (alone) before
+            it is marked failed.
+        default_side: leg of the trials whose manifest row gives none.
+        default_height_m: stature of the subjects whose row gives none, m.
+        default_mass_kg: mass of the subjects whose row gives none, kg.
+        summary_every_s: batch.csv is rewritten at most this often while running, s
+            (and always at the end).
+    """
+
+    method: str = "casadi"
+    filter_name: str = "mahony"
+    use_mag: bool = True
+    outputs: frozenset[str] = field(default=ALL_OUTPUTS)
+    workers: int | None = None
+    force: bool = False
+    retries: int = 1
+    default_side: str = "left"
+    default_height_m: float = 1.75
+    default_mass_kg: float = 75.0
+    summary_every_s: float = 30.0
+
+    def processing_key(self) -> dict[str, object]:
+        """The options that change a trial's outputs (part of its input hash)."""
+        return {
+            "method": self.method,
+            "filter": self.filter_name,
+            "use_mag": self.use_mag,
+            "outputs": sorted(self.outputs),
+        }

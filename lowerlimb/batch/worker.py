@@ -1,0 +1,161 @@
+"""Processing one trial of a study, in whatever process runs it: never raises, always an outcome.
+
+:func:`run_trial` is what the local pool and the Dask workers call. It reads the
+trial, runs :func:`lowerlimb.process_trial`, writes the chosen outputs and the record
+into a staging folder and renames it into place (:mod:`lowerlimb.io.atomic`), so a
+trial's folder is complete or absent. Any error becomes a ``failed`` outcome.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import sys
+import tempfile
+import time
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from lowerlimb.conventions import ANGLE_COLUMNS
+from lowerlimb.errors import InputError
+from lowerlimb.io.trial import ImuTrial
+from lowerlimb.outputs import read_calibration, write_outputs
+from lowerlimb.pipeline import TrialResult, process_trial
+
+from .record import MARKER, TrialJob, TrialOutcome
+
+__all__ = ["key_results", "run_trial"]
+
+#: Errors that mean the trial or its options are bad (a re-run gives the same).
+_INPUT_ERRORS = (InputError, FileNotFoundError, IsADirectoryError, PermissionError, UnicodeDecodeError)
+
+
+def run_trial(job: TrialJob) -> TrialOutcome:
+    """Process one trial and write its folder ``job.out / job.trial.name``; never raises."""
+    t0, cpu0 = time.perf_counter(), time.process_time()
+    trial, p = job.trial, job.params
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            imu = ImuTrial.from_csv(trial.path, side=trial.side)
+            previous = None if trial.calibration is None else read_calibration(trial.calibration)
+            result = process_trial(
+                imu,
+                method=p.method,
+                filter_name=p.filter_name,
+                height_m=trial.height_m,
+                mass_kg=trial.mass_kg,
+                use_mag=p.use_mag,
+                calibration=previous,
+            )
+        reason = _warning_line(caught)
+        outcome = TrialOutcome(
+            trial.name,
+            trial.label,
+            "warning" if reason else "ok",
+            reason,
+            0.0,
+            math.nan,
+            math.nan,
+            trial.subject,
+            trial.task,
+            trial.side,
+            key_results(result),
+            job.digest,
+            "",
+            job.attempt,
+        )
+
+        def fill(d: Path) -> None:
+            write_outputs(result, d, files=p.outputs)
+            outcome.wall_s = time.perf_counter() - t0
+            outcome.cpu_s = time.process_time() - cpu0
+            outcome.peak_rss_mb = peak_rss_mb()
+            from .record import write_record
+
+            write_record(d / MARKER, outcome)
+
+        replace_directory(job.out / trial.name, fill)
+        return outcome
+    except _INPUT_ERRORS as e:
+        return _failed(job, _one_line(e), "input", t0)
+    except Exception as e:  # a bug or a solver failure: recorded, the study goes on
+        return _failed(job, f"internal error ({type(e).__name__}): {_one_line(e)}", "internal", t0)
+
+
+def key_results(result: TrialResult) -> dict[str, float]:
+    """``batch.csv``'s key results of a processed trial.
+
+    Returns:
+        ``duration_s``; ``thigh_length_mm`` (hip to knee centre) and ``shank_length_mm``
+        (knee to ankle centre) of the calibrated leg; and ``<angle>_range_deg``, the
+        range (max − min) of each of the 9 ISB angles over the trial, deg.
+    """
+    origins = result.model.geometry.joint_origins
+    out = {
+        "duration_s": round(float(result.trial.duration_s), 3),
+        "thigh_length_mm": round(1000.0 * float(np.linalg.norm(origins["knee"][:3, 3])), 2),
+        "shank_length_mm": round(1000.0 * float(np.linalg.norm(origins["ankle"][:3, 3])), 2),
+    }
+    deg = np.rad2deg(result.angles_rad)
+    for k, name in enumerate(ANGLE_COLUMNS[1:]):
+        column = deg[:, k][np.isfinite(deg[:, k])]
+        out[f"{name}_range_deg"] = round(float(np.ptp(column)), 2) if column.size else float("nan")
+    return out
+
+
+def replace_directory(out: Path, fill: Callable[[Path], None]) -> None:
+    """Create ``out`` with what ``fill(staging)`` writes, replacing an older ``out`` only on success."""
+    out.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+    old: Path | None = None
+    try:
+        fill(staging)
+        if out.exists():
+            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old.", dir=out.parent))
+            os.replace(out, old / "previous")
+        os.replace(staging, out)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        if old is not None and not out.exists():
+            os.replace(old / "previous", out)
+        raise
+    finally:
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+
+
+def peak_rss_mb() -> float:
+    """Peak resident memory of this process, MB (NaN where ``resource`` is missing)."""
+    try:
+        import resource
+    except ImportError:  # Windows
+        return math.nan
+    kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return kb / 1024.0 if sys.platform != "darwin" else kb / 1024.0**2
+
+
+def _failed(job: TrialJob, reason: str, failure: str, t0: float) -> TrialOutcome:
+    out = TrialOutcome.failed(job.trial, reason, failure, job.digest, time.perf_counter() - t0)
+    out.attempts = job.attempt
+    out.peak_rss_mb = peak_rss_mb()
+    return out
+
+
+def _warning_line(caught: list[warnings.WarningMessage]) -> str:
+    seen: list[str] = []
+    for w in caught:
+        if issubclass(w.category, DeprecationWarning | PendingDeprecationWarning | FutureWarning):
+            continue
+        text = " ".join(str(w.message).split())
+        if text not in seen:
+            seen.append(text)
+    return "; ".join(seen)
+
+
+def _one_line(e: BaseException) -> str:
+    return " ".join((str(e) or type(e).__name__).split())

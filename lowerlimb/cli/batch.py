@@ -1,0 +1,78 @@
+"""``lowerlimb batch``: every trial of a study, on a local process pool or a Dask cluster."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from lowerlimb.cli._common import EXIT_INTERNAL, EXIT_OK, add_outputs, chosen_outputs
+from lowerlimb.methods import CALIBRATION_METHODS, ORIENTATION_FILTERS
+
+
+def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Register ``batch`` (docs/formats.md, "Many trials")."""
+    p = subparsers.add_parser(
+        "batch",
+        help="process a study: every trial of a manifest or folder, one output folder each",
+        description="Calibrate every trial of a manifest CSV (columns trial, side, subject, task, "
+        "height_m, mass_kg, calibration) or of a folder of trial CSVs. Writes one folder per "
+        "trial, batch.csv (status ok/warning/failed, reason, wall time, key results) and the "
+        "per-subject and per-task summaries. A re-run skips the trials already done. Exit "
+        "status 0 when every trial ran, 1 when some failed, 2 for a bad manifest.",
+    )
+    p.add_argument("source", type=Path, metavar="MANIFEST.csv|DIR", help="manifest CSV or folder of trials")
+    p.add_argument("--out", required=True, type=Path, help="output folder of the study (created)")
+    p.add_argument("--workers", type=_positive_int, help="local worker processes (default: one per core)")
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="run on a Dask cluster (tcp://host:8786) instead of local processes; "
+        "needs pip install 'lowerlimb[cluster]' and folders shared by every worker",
+    )
+    p.add_argument("--force", action="store_true", help="redo the trials already done")
+    p.add_argument("--quiet", action="store_true", help="no progress bar or per-trial lines")
+    p.add_argument(
+        "--method", choices=tuple(CALIBRATION_METHODS), default="casadi", help="joint-constraint solver"
+    )
+    p.add_argument(
+        "--filter", choices=tuple(ORIENTATION_FILTERS), default="mahony", help="orientation filter"
+    )
+    p.add_argument("--no-mag", action="store_true", help="ignore magnetometer columns (6-axis fusion)")
+    add_outputs(p)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the study; exit status 0 when every trial ran, 1 when some failed (2: raised bad input)."""
+    from lowerlimb.batch import BatchParams, run_study
+
+    params = BatchParams(
+        method=args.method,
+        filter_name=args.filter,
+        use_mag=not args.no_mag,
+        outputs=chosen_outputs(args),
+        workers=args.workers,
+        force=args.force,
+    )
+    result = run_study(args.source, args.out, params, scheduler=args.scheduler, quiet=args.quiet)
+    failed = result.failed
+    n = len(result.outcomes)
+    print(
+        f"lowerlimb batch: {n - len(failed)} of {n} trials done ({result.processed} processed now, "
+        f"{n - result.processed} up to date), {len(failed)} failed, {result.wall_s:.1f} s; "
+        f"wrote {result.out / 'batch.csv'}",
+        file=sys.stderr,
+    )
+    for o in failed:
+        print(f"  failed: {o.trial}: {o.reason}", file=sys.stderr)
+    return EXIT_INTERNAL if failed else EXIT_OK
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text} must be at least 1")
+    return value
