@@ -29,6 +29,7 @@ PYTHON = opensense.opensim_python()
 TIME_RANGE = (8.0, 13.2)
 
 pytestmark = [
+    pytest.mark.optional,
     pytest.mark.data,
     pytest.mark.slow,
     pytest.mark.skipif(
