@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
@@ -127,6 +128,8 @@ def least_squares_core(
 ) -> SolverResult:
     """The Gauss–Newton loop shared by :func:`gauss_newton` and ``casadi_lsq``.
 
+    Stages: check the inputs → evaluate at ``x0`` → iterate → diagnose ``J`` at the solution.
+
     Args:
         evaluate: ``evaluate(x, need_jacobian) -> (r, J)``; ``r`` shape (M,), ``J`` shape
             (M, n) or ``None`` when not asked for. Returning ``J`` although not asked for is
@@ -148,9 +151,74 @@ def least_squares_core(
         SolverError: See :func:`gauss_newton`.
     """
     t_start = time.perf_counter()
+    x, lo, hi = _check_inputs(x0, lower, upper, step, max_iter, tol)
+    call = _CheckedEvaluate(evaluate, x.size, method)
+    state = _initial_state(call, x, method)
+    rtol = float(max(state.M, x.size) * np.finfo(float).eps) if rcond is None else float(rcond)
+    _iterate(call, state, lo, hi, step, max_iter, tol, rtol, method)
+    return SolverResult(
+        x=state.x,
+        cost=state.f,
+        iterations=state.iterations,
+        wall_time_s=time.perf_counter() - t_start,
+        converged=state.converged,
+        method=method,
+        diagnostics=_final_diagnostics(call, state, lo, hi, rtol),
+    )
+
+
+@dataclass
+class _LoopState:
+    """The Gauss–Newton loop's current point and bookkeeping (updated in place).
+
+    Attributes:
+        x: Current estimate, shape (n,).
+        r: Residual at ``x``, shape (M,).
+        J: Jacobian at ``x``, shape (M, n), or ``None`` when not evaluated yet.
+        f: Cost ``0.5 * ||r||²`` at ``x``.
+        M: Number of residuals at ``x0``.
+        history: Costs: the initial one, then one per iteration (also rejected steps).
+        message: Why the loop stopped (so far: the iteration limit).
+        converged: A stopping test held.
+        done: The loop must stop (set by a step rule that found no step).
+        iterations: Iterations (steps computed) so far.
+        gcos: MINPACK gradient cosine at ``x`` (dimensionless).
+        lam: Levenberg–Marquardt damping (``-1`` until the first iteration sets it).
+        nu: Levenberg–Marquardt growth factor of ``lam`` after a rejected step.
+    """
+
+    x: np.ndarray
+    r: np.ndarray
+    J: np.ndarray | None
+    f: float
+    M: int
+    history: list[float]
+    message: str
+    converged: bool = False
+    done: bool = False
+    iterations: int = 0
+    gcos: float = np.inf
+    lam: float = -1.0
+    nu: float = 2.0
+
+
+#: An accepted trial point: ``(x (n,), r (M,), f, J (M, n) or None, full_step)``.
+_Trial = tuple[np.ndarray, np.ndarray, float, np.ndarray | None, bool]
+
+
+def _check_inputs(
+    x0: ArrayLike, lower: ArrayLike | None, upper: ArrayLike | None, step: str, max_iter: int, tol: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Validate the start, bounds and options.
+
+    Returns:
+        ``x0`` as a float vector, shape (n,), and the lower and upper bounds, shape (n,).
+
+    Raises:
+        ValueError: Bad ``x0``, bounds (or ``x0`` outside them), ``step``, ``max_iter`` or ``tol``.
+    """
     x = as_vector(x0, "x0")
-    n = x.size
-    lo, hi = as_bounds(lower, upper, n)
+    lo, hi = as_bounds(lower, upper, x.size)
     check_inside(x, lo, hi)
     if step not in STEPS:
         raise ValueError(f"unknown step {step!r}; choose one of {STEPS}")
@@ -158,36 +226,59 @@ def least_squares_core(
         raise ValueError(f"max_iter must be a non-negative integer, got {max_iter}")
     if not tol >= 0:
         raise ValueError(f"tol must be >= 0, got {tol}")
+    return x, lo, hi
 
-    counts = {"r": 0, "J": 0}
 
-    def call(xq: np.ndarray, need_jacobian: bool) -> tuple[np.ndarray, np.ndarray | None]:
-        counts["r"] += 1
-        r, J = evaluate(xq, need_jacobian)
+class _CheckedEvaluate:
+    """``evaluate`` with shape and finiteness checks and evaluation counts.
+
+    ``self(x, need_jacobian) -> (r, J)``: ``x`` shape (n,), ``r`` shape (M,), ``J`` shape
+    (M, n) or ``None``. ``n_r`` counts calls, ``n_J`` the Jacobians returned.
+    """
+
+    def __init__(self, evaluate: Evaluate, n: int, method: str) -> None:
+        self._evaluate = evaluate
+        self._n = n
+        self._method = method
+        self.n_r = 0
+        self.n_J = 0
+
+    def __call__(self, xq: np.ndarray, need_jacobian: bool) -> tuple[np.ndarray, np.ndarray | None]:
+        self.n_r += 1
+        r, J = self._evaluate(xq, need_jacobian)
         if r.ndim != 1:
-            raise ValueError(f"{method}: the residual must have shape (M,), got {r.shape}")
+            raise ValueError(f"{self._method}: the residual must have shape (M,), got {r.shape}")
         if J is not None:
-            counts["J"] += 1
-            if J.shape != (r.size, n):
+            self.n_J += 1
+            if J.shape != (r.size, self._n):
                 raise ValueError(
-                    f"{method}: the Jacobian must have shape (M, n) = {(r.size, n)}, got {J.shape}"
+                    f"{self._method}: the Jacobian must have shape (M, n) = {(r.size, self._n)}, "
+                    f"got {J.shape}"
                 )
             if not np.all(np.isfinite(J)) and np.all(np.isfinite(r)):
                 raise SolverError(
                     f"the Jacobian contains NaN/inf ({np.count_nonzero(~np.isfinite(J))} "
                     f"entries) at x = {xq}; check the Jacobian for divisions by zero "
                     "(e.g. the derivative of a norm at 0)",
-                    method=method,
+                    method=self._method,
                     x=xq,
                 )
         return r, J
 
-    def jacobian_at(xq: np.ndarray) -> np.ndarray:
-        J = call(xq, True)[1]
+    def jacobian_at(self, xq: np.ndarray) -> np.ndarray:
+        """The Jacobian at ``xq`` (shape (n,)), shape (M, n); ``ValueError`` when none comes back."""
+        J = self(xq, True)[1]
         if J is None:
-            raise ValueError(f"{method}: evaluate(x, True) returned no Jacobian")
+            raise ValueError(f"{self._method}: evaluate(x, True) returned no Jacobian")
         return J
 
+
+def _initial_state(call: _CheckedEvaluate, x: np.ndarray, method: str) -> _LoopState:
+    """Residual and Jacobian at the start ``x`` (shape (n,)); the loop state before iteration 1.
+
+    Raises:
+        SolverError: The residual is NaN/inf at ``x``.
+    """
     r, J = call(x, True)
     if not np.all(np.isfinite(r)):
         raise SolverError(
@@ -197,101 +288,201 @@ def least_squares_core(
             method=method,
             x=x,
         )
-    M = r.size
-    rtol = float(max(M, n) * np.finfo(float).eps) if rcond is None else float(rcond)
     f = 0.5 * float(r @ r)
-    history = [f]
-    converged = False
-    message = f"maximum number of iterations ({max_iter}) reached"
-    lam = -1.0  # Levenberg–Marquardt damping, set at the first iteration
-    nu = 2.0
-    gcos = np.inf
-    iterations = 0
+    return _LoopState(x, r, J, f, r.size, [f], "")
 
+
+def _iterate(
+    call: _CheckedEvaluate,
+    state: _LoopState,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    step: str,
+    max_iter: int,
+    tol: float,
+    rtol: float,
+    method: str,
+) -> None:
+    """Run the loop on ``state`` until a stopping test, a failed step or ``max_iter``.
+
+    Each iteration: gradient ``g = Jᵀr`` and the free variables (shape (n,)) → tests before the
+    step → Gauss–Newton/Levenberg–Marquardt direction → the step rule's trial → tests after it.
+    """
+    state.message = f"maximum number of iterations ({max_iter}) reached"
     while True:
-        if J is None:
-            J = jacobian_at(x)
-        g = J.T @ r
-        free = ~(((x <= lo) & (g > 0)) | ((x >= hi) & (g < 0)))
-        gcos = _gradient_cosine(J, r, g, free)
-        if f == 0.0:
-            converged, message = True, "zero residual"
+        J = state.J if state.J is not None else call.jacobian_at(state.x)
+        state.J = J
+        g = J.T @ state.r
+        free = ~(((state.x <= lo) & (g > 0)) | ((state.x >= hi) & (g < 0)))
+        state.gcos = _gradient_cosine(J, state.r, g, free)
+        if _stops_before_step(state, tol, max_iter):
             break
-        if gcos <= tol:
-            converged, message = True, f"gradient cosine {gcos:.3g} <= tol"
-            break
-        if iterations >= max_iter:
-            break
-        iterations += 1
-
-        U, s, Vt = np.linalg.svd(J if free.all() else J[:, free], full_matrices=False)
-        Utr = U.T @ r
-        d = np.zeros(n)
-        if step == "levenberg_marquardt":
-            if lam < 0:
-                lam = _LM_TAU * float(np.max(np.sum(J * J, axis=0)))
-            d[free] = -Vt.T @ (s / (s * s + lam) * Utr)
-        else:
-            inv = np.zeros_like(s)
-            keep = s > rtol * (s[0] if s.size else 0.0)
-            inv[keep] = 1.0 / s[keep]
-            d[free] = -Vt.T @ (inv * Utr)
-
-        if step == "pinv":
-            x_new = np.clip(x + d, lo, hi)
-            r_new, J_new = call(x_new, False)
-            if not np.all(np.isfinite(r_new)):
-                raise SolverError(
-                    f"the residual became NaN/inf after the pseudo-inverse step of iteration "
-                    f"{iterations}; use step='line_search' or 'levenberg_marquardt'",
-                    method=method,
-                    x=x_new,
-                )
-            f_new = 0.5 * float(r_new @ r_new)
-            full_step = True
-        elif step == "line_search":
-            found = _line_search(call, x, f, g, d, lo, hi)
-            if found is None and np.any(d != -g):
-                found = _line_search(call, x, f, g, _steepest(g, free, d), lo, hi)
-            if found is None:
-                converged = bool(np.linalg.norm(d) <= 1e-8 * (1.0 + np.linalg.norm(x)))
-                message = "line search found no decrease (cost at its rounding floor)"
-                history.append(f)
+        state.iterations += 1
+        d = _direction(J, state, free, step, rtol)
+        trial = _trial_step(call, state, J, g, free, d, lo, hi, step, method)
+        if trial is None:
+            if state.done:
                 break
-            x_new, r_new, f_new, J_new, full_step = found
-        else:
-            x_new = np.clip(x + d, lo, hi)
-            r_new, J_new = call(x_new, False)
-            f_new = 0.5 * float(r_new @ r_new) if np.all(np.isfinite(r_new)) else np.inf
-            lin = r + J @ (x_new - x)
-            predicted = f - 0.5 * float(lin @ lin)
-            rho = (f - f_new) / predicted if predicted > 0 and np.isfinite(f_new) else -1.0
-            if rho <= 0:
-                lam *= nu
-                nu *= 2.0
-                history.append(f)
-                if not np.isfinite(lam) or lam > 1e300:
-                    message = "Levenberg–Marquardt damping overflowed without a decrease"
-                    break
-                continue
-            lam = max(lam * max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3), 1e-300)
-            nu = 2.0
-            full_step = rho > 0.25
-
-        dx = x_new - x
-        f_old = f
-        x, r, f, J = x_new, r_new, f_new, J_new
-        history.append(f)
-        if np.linalg.norm(dx) <= tol * (tol + np.linalg.norm(x)):
-            converged, message = True, "step size <= tol"
-            break
-        if full_step and 0.0 <= f_old - f <= tol * f_old:
-            converged, message = True, "relative cost reduction <= tol"
+            continue
+        if _accept(state, trial, tol):
             break
 
-    if J is None:
-        J = jacobian_at(x)
+
+def _stops_before_step(state: _LoopState, tol: float, max_iter: int) -> bool:
+    """The tests at the current point: zero residual, gradient cosine, iteration limit."""
+    if state.f == 0.0:
+        state.converged, state.message = True, "zero residual"
+        return True
+    if state.gcos <= tol:
+        state.converged, state.message = True, f"gradient cosine {state.gcos:.3g} <= tol"
+        return True
+    return state.iterations >= max_iter
+
+
+def _direction(J: np.ndarray, state: _LoopState, free: np.ndarray, step: str, rtol: float) -> np.ndarray:
+    """The step direction, shape (n,), zero in the frozen variables (``free`` is (n,) bool).
+
+    ``J`` is the Jacobian at ``state.x``, shape (M, n).
+
+    Levenberg–Marquardt: ``(JᵀJ + λI) d = −Jᵀr`` (sets the initial ``λ`` in ``state`` at the
+    first iteration); otherwise the minimum-norm ``d = −pinv(J) r`` with singular values
+    ``<= rtol * s_max`` treated as zero (eq. 11).
+    """
+    U, s, Vt = np.linalg.svd(J if free.all() else J[:, free], full_matrices=False)
+    Utr = U.T @ state.r
+    d = np.zeros(state.x.size)
+    if step == "levenberg_marquardt":
+        if state.lam < 0:
+            state.lam = _LM_TAU * float(np.max(np.sum(J * J, axis=0)))
+        d[free] = -Vt.T @ (s / (s * s + state.lam) * Utr)
+    else:
+        inv = np.zeros_like(s)
+        keep = s > rtol * (s[0] if s.size else 0.0)
+        inv[keep] = 1.0 / s[keep]
+        d[free] = -Vt.T @ (inv * Utr)
+    return d
+
+
+def _trial_step(
+    call: _CheckedEvaluate,
+    state: _LoopState,
+    J: np.ndarray,
+    g: np.ndarray,
+    free: np.ndarray,
+    d: np.ndarray,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    step: str,
+    method: str,
+) -> _Trial | None:
+    """The trial point of the step rule along ``d`` (shape (n,)), or ``None`` when none was accepted.
+
+    ``J`` (M, n) and ``g = Jᵀr`` (n,) are taken at ``state.x``; ``free`` (n,) marks the free variables.
+    """
+    if step == "pinv":
+        return _pinv_step(call, state, d, lo, hi, method)
+    if step == "line_search":
+        return _line_search_step(call, state, g, free, d, lo, hi)
+    return _levenberg_marquardt_step(call, state, J, d, lo, hi)
+
+
+def _pinv_step(
+    call: _CheckedEvaluate, state: _LoopState, d: np.ndarray, lo: np.ndarray, hi: np.ndarray, method: str
+) -> _Trial:
+    """The full step ``clip(x + d)`` (eq. 11 and 15), always taken.
+
+    Raises:
+        SolverError: The residual is NaN/inf at the new point.
+    """
+    x_new = np.clip(state.x + d, lo, hi)
+    r_new, J_new = call(x_new, False)
+    if not np.all(np.isfinite(r_new)):
+        raise SolverError(
+            f"the residual became NaN/inf after the pseudo-inverse step of iteration "
+            f"{state.iterations}; use step='line_search' or 'levenberg_marquardt'",
+            method=method,
+            x=x_new,
+        )
+    f_new = 0.5 * float(r_new @ r_new)
+    return x_new, r_new, f_new, J_new, True
+
+
+def _line_search_step(
+    call: _CheckedEvaluate,
+    state: _LoopState,
+    g: np.ndarray,
+    free: np.ndarray,
+    d: np.ndarray,
+    lo: np.ndarray,
+    hi: np.ndarray,
+) -> _Trial | None:
+    """Armijo search along ``d``, then along projected steepest descent; ``None`` stops the loop."""
+    found = _line_search(call, state.x, state.f, g, d, lo, hi)
+    if found is None and np.any(d != -g):
+        found = _line_search(call, state.x, state.f, g, _steepest(g, free, d), lo, hi)
+    if found is None:
+        state.converged = bool(np.linalg.norm(d) <= 1e-8 * (1.0 + np.linalg.norm(state.x)))
+        state.message = "line search found no decrease (cost at its rounding floor)"
+        state.history.append(state.f)
+        state.done = True
+    return found
+
+
+def _levenberg_marquardt_step(
+    call: _CheckedEvaluate, state: _LoopState, J: np.ndarray, d: np.ndarray, lo: np.ndarray, hi: np.ndarray
+) -> _Trial | None:
+    """Damped step with Nielsen's update of ``λ``; ``None`` for a rejected step.
+
+    A rejected step raises ``λ`` and records the unchanged cost; the loop stops (``done``)
+    when ``λ`` overflows.
+    """
+    x, f = state.x, state.f
+    x_new = np.clip(x + d, lo, hi)
+    r_new, J_new = call(x_new, False)
+    f_new = 0.5 * float(r_new @ r_new) if np.all(np.isfinite(r_new)) else np.inf
+    lin = state.r + J @ (x_new - x)
+    predicted = f - 0.5 * float(lin @ lin)
+    rho = (f - f_new) / predicted if predicted > 0 and np.isfinite(f_new) else -1.0
+    if rho <= 0:
+        state.lam *= state.nu
+        state.nu *= 2.0
+        state.history.append(f)
+        if not np.isfinite(state.lam) or state.lam > 1e300:
+            state.message = "Levenberg–Marquardt damping overflowed without a decrease"
+            state.done = True
+        return None
+    state.lam = max(state.lam * max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3), 1e-300)
+    state.nu = 2.0
+    return x_new, r_new, f_new, J_new, rho > 0.25
+
+
+def _accept(state: _LoopState, trial: _Trial, tol: float) -> bool:
+    """Move ``state`` to the trial point; True when the step or cost-reduction test stops the loop."""
+    x_new, r_new, f_new, J_new, full_step = trial
+    dx = x_new - state.x
+    f_old = state.f
+    state.x, state.r, state.f, state.J = x_new, r_new, f_new, J_new
+    state.history.append(state.f)
+    if np.linalg.norm(dx) <= tol * (tol + np.linalg.norm(state.x)):
+        state.converged, state.message = True, "step size <= tol"
+        return True
+    if full_step and 0.0 <= f_old - state.f <= tol * f_old:
+        state.converged, state.message = True, "relative cost reduction <= tol"
+        return True
+    return False
+
+
+def _final_diagnostics(
+    call: _CheckedEvaluate, state: _LoopState, lo: np.ndarray, hi: np.ndarray, rtol: float
+) -> dict[str, Any]:
+    """:func:`jacobian_diagnostics` at the solution plus the loop's history and counts.
+
+    ``message`` gains a note on the unidentifiable directions when ``J`` is rank-deficient.
+    """
+    J = state.J if state.J is not None else call.jacobian_at(state.x)
+    n = state.x.size
     diagnostics = jacobian_diagnostics(J, rtol)
+    message = state.message
     if diagnostics["rank"] < n:
         message += (
             f"; Jacobian rank {diagnostics['rank']} < {n} unknowns "
@@ -299,23 +490,15 @@ def least_squares_core(
             "diagnostics['unidentifiable_directions'] are not determined by the data"
         )
     diagnostics.update(
-        cost_history=np.asarray(history),
-        gradient_cosine=float(gcos),
-        rms_residual=float(np.sqrt(2.0 * f / M)) if M else 0.0,
-        active_bounds=(x <= lo) | (x >= hi),
-        n_residual_evaluations=counts["r"],
-        n_jacobian_evaluations=counts["J"],
+        cost_history=np.asarray(state.history),
+        gradient_cosine=float(state.gcos),
+        rms_residual=float(np.sqrt(2.0 * state.f / state.M)) if state.M else 0.0,
+        active_bounds=(state.x <= lo) | (state.x >= hi),
+        n_residual_evaluations=call.n_r,
+        n_jacobian_evaluations=call.n_J,
         message=message,
     )
-    return SolverResult(
-        x=x,
-        cost=f,
-        iterations=iterations,
-        wall_time_s=time.perf_counter() - t_start,
-        converged=converged,
-        method=method,
-        diagnostics=diagnostics,
-    )
+    return diagnostics
 
 
 def jacobian_diagnostics(J: np.ndarray, rtol: float) -> dict[str, Any]:

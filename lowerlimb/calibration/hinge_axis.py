@@ -60,7 +60,7 @@ from lowerlimb.calibration._prepare import (
 )
 from lowerlimb.calibration._rotation import low_rotation_messages
 from lowerlimb.calibration._solve import LsqProblem, solve_global, solve_local, subsample_step
-from lowerlimb.calibration.excitation import issue_warnings, jacobian_report
+from lowerlimb.calibration.excitation import ExcitationReport, issue_warnings, jacobian_report
 from lowerlimb.calibration.geometry import basis_with_first_axis
 from lowerlimb.calibration.joint_center import fit_spherical
 from lowerlimb.calibration.options import CalibrationOptions, check_method
@@ -346,6 +346,9 @@ def fit_hinge_axis(
     soft when soft tissue rotates a real thigh sensor about the thigh (the
     residual then tilts the axis towards the long axis to absorb it).
 
+    Stages: solve the axes → relative sign (module docstring, 1 and 3) → overall sign (2) →
+    diagnostics and warnings.
+
     Args:
         gyr_parent: (N, 3) bias-corrected, filtered parent gyro, rad/s.
         gyr_child: (N, 3) bias-corrected, filtered child gyro, rad/s.
@@ -371,26 +374,104 @@ def fit_hinge_axis(
     t0 = time.perf_counter()
     wp, wc = gyr_parent, gyr_child
     wpf, wcf = _with_gravity(wp, wc, gravity, n_still, options)
-    iterations = 0
+    jp, jc, iterations, converged, solver = _solve_axes(wpf, wcf, method, options)
     messages: list[str] = []
+    jc, coherence, corr = _relative_sign(jp, jc, wp, wc, rate_hz, acc_check, joint, child_sensor, messages)
+    margin = flexion_sign_margin(jp, jc, wp, wc, rate_hz, n_still)
+    if margin < 0:
+        jp, jc = -jp, -jc
+    r, report, std_deg = _axis_diagnostics(
+        jp, jc, wp, wc, options, joint, parent_sensor, child_sensor, messages
+    )
+    messages += low_rotation_messages(
+        joint,
+        ((parent_sensor, wp), (child_sensor, wc)),
+        options.min_rms_rate_rps,
+        "the hinge axis cannot be determined; record a trial in which the joint moves",
+    )
+    report.warnings = list(messages)
+    issue_warnings(messages, stacklevel=4)
+    return HingeAxisCalibration(
+        joint=joint,
+        parent_sensor=parent_sensor,
+        child_sensor=child_sensor,
+        axis_in_parent_sensor=jp,
+        axis_in_child_sensor=jc,
+        rms_residual=float(np.sqrt(np.mean(r**2))),
+        excitation=report,
+        axis_std_deg=np.asarray(std_deg, dtype=float),
+        sign_coherence=coherence,
+        flexion_sign_margin=abs(margin),
+        acc_sign_correlation=corr,
+        method=method,
+        solver=solver,
+        iterations=iterations,
+        converged=converged,
+        solve_time_s=time.perf_counter() - t0,
+        warnings=messages,
+    )
+
+
+def _solve_axes(
+    wp: FloatArray, wc: FloatArray, method: str, options: CalibrationOptions
+) -> tuple[FloatArray, FloatArray, int, bool, str]:
+    """Solve eq. 12 for the axes with ``method`` (signs not yet resolved).
+
+    Args:
+        wp: (N, 3) parent gyro (with any gravity pseudo-samples), parent sensor frame, rad/s.
+        wc: (N, 3) child gyro, child sensor frame, rad/s.
+        method: one of :data:`~lowerlimb.calibration.options.METHODS`.
+        options: calibration options.
+
+    Returns:
+        ``(j_P, j_C, iterations, converged, solver)``: (3,) unit axes in the parent and child
+        sensor frames, and the solver's iterations, convergence flag and name.
+    """
     if method in ("casadi", "gn"):
-        jp, jc, _, iterations, converged, solver = _multistart(wpf, wcf, method, options)
+        jp, jc, _, iterations, converged, solver = _multistart(wp, wc, method, options)
     else:
-        res = solve_global(_problem(wpf, wcf, options), method, options)
+        res = solve_global(_problem(wp, wc, options), method, options)
         jp = axis_from_angles(res.x[0], res.x[1])
         jc = axis_from_angles(res.x[2], res.x[3])
         iterations, converged, solver = int(res.iterations), bool(res.converged), res.method
         if method.endswith("+casadi"):
             # safeguard: the swarm may hand a wrong basin to the refinement (squats:
             # a minimum 90° away); keep the better of it and the default starts
-            ms = _multistart(wpf, wcf, "casadi", options)
+            ms = _multistart(wp, wc, "casadi", options)
             iterations += ms[3]
             if ms[2] < res.cost:
                 jp, jc, converged = ms[0], ms[1], ms[4]
                 solver = f"{solver} (kept the multi-start {ms[5]})"
-    jp, jc = jp / np.linalg.norm(jp), jc / np.linalg.norm(jc)
+    return jp / np.linalg.norm(jp), jc / np.linalg.norm(jc), iterations, converged, solver
 
-    # 1. relative sign: gyro coherence, settled by the accelerometers when available
+
+def _relative_sign(
+    jp: FloatArray,
+    jc: FloatArray,
+    wp: FloatArray,
+    wc: FloatArray,
+    rate_hz: float,
+    acc_check: Callable[[FloatArray, FloatArray], float] | None,
+    joint: str,
+    child_sensor: str,
+    messages: list[str],
+) -> tuple[FloatArray, FloatArray, float]:
+    """Sign rule 1 (module docstring): gyro coherence, settled by the accelerometers when available.
+
+    Args:
+        jp: (3,) unit axis, parent sensor frame.
+        jc: (3,) unit axis, child sensor frame (flipped here when needed).
+        wp: (N, 3) parent gyro, rad/s.
+        wc: (N, 3) child gyro, rad/s.
+        rate_hz: sampling rate, Hz.
+        acc_check: optional ``(j_P, j_C) -> correlation`` (see :func:`fit_hinge_axis`).
+        joint: joint name used in messages.
+        child_sensor: child sensor name used in messages.
+        messages: warnings so far; this stage's are appended.
+
+    Returns:
+        ``(j_C, [coherence kept, coherence flipped], acceleration correlation or NaN)``.
+    """
     coh_keep = relative_sign_coherence(jp, jc, wp, wc, rate_hz)
     coh_flip = relative_sign_coherence(jp, -jc, wp, wc, rate_hz)
     if coh_flip > coh_keep:
@@ -418,13 +499,37 @@ def fit_hinge_axis(
             f"{joint}: the relative sign of the axes is uncertain (coherence {coh_keep:.2f} vs "
             f"{coh_flip:.2f}); the {child_sensor} axis may point the opposite way"
         )
-    # 2. overall sign: flexion f = −(q − q0) mostly positive
-    margin = flexion_sign_margin(jp, jc, wp, wc, rate_hz, n_still)
-    if margin < 0:
-        jp, jc = -jp, -jc
-    margin = abs(margin)
+    return jc, np.array([coh_keep, coh_flip]), corr
 
-    # diagnostics in a basis centred on the solution (x = 0)
+
+def _axis_diagnostics(
+    jp: FloatArray,
+    jc: FloatArray,
+    wp: FloatArray,
+    wc: FloatArray,
+    options: CalibrationOptions,
+    joint: str,
+    parent_sensor: str,
+    child_sensor: str,
+    messages: list[str],
+) -> tuple[FloatArray, ExcitationReport, FloatArray]:
+    """Residual and excitation of the final axes, in a basis centred on them (x = 0).
+
+    Args:
+        jp: (3,) unit axis, parent sensor frame.
+        jc: (3,) unit axis, child sensor frame.
+        wp: (N, 3) parent gyro, rad/s.
+        wc: (N, 3) child gyro, rad/s.
+        options: calibration options (noise floor, axis tolerance).
+        joint: joint name used in messages.
+        parent_sensor: parent sensor name used in messages.
+        child_sensor: child sensor name used in messages.
+        messages: warnings so far; a poorly determined axis appends one.
+
+    Returns:
+        ``(r, report, axis_std_deg)``: the (N,) eq. 12 residual, rad/s; the excitation report;
+        the (2,) standard deviation of each axis's direction, degrees.
+    """
     Qp, Qc = basis_with_first_axis(jp), basis_with_first_axis(jc)
     wpr, wcr = wp @ Qp, wc @ Qc
     r = hinge_residual(np.zeros(4), wpr, wcr)
@@ -441,33 +546,7 @@ def fit_hinge_axis(
             f"({', '.join(f'{c:+.2f}' for c in tilt_c)}) in the {child_sensor} sensor frame; "
             f"record motion in which the {parent_sensor} segment also rotates about other axes"
         )
-    messages += low_rotation_messages(
-        joint,
-        ((parent_sensor, wp), (child_sensor, wc)),
-        options.min_rms_rate_rps,
-        "the hinge axis cannot be determined; record a trial in which the joint moves",
-    )
-    report.warnings = list(messages)
-    issue_warnings(messages, stacklevel=4)
-    return HingeAxisCalibration(
-        joint=joint,
-        parent_sensor=parent_sensor,
-        child_sensor=child_sensor,
-        axis_in_parent_sensor=jp,
-        axis_in_child_sensor=jc,
-        rms_residual=float(np.sqrt(np.mean(r**2))),
-        excitation=report,
-        axis_std_deg=np.asarray(std_deg, dtype=float),
-        sign_coherence=np.array([coh_keep, coh_flip]),
-        flexion_sign_margin=margin,
-        acc_sign_correlation=corr,
-        method=method,
-        solver=solver,
-        iterations=iterations,
-        converged=converged,
-        solve_time_s=time.perf_counter() - t0,
-        warnings=messages,
-    )
+    return r, report, std_deg
 
 
 def calibrate_hinge_axis(

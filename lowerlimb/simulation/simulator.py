@@ -35,7 +35,7 @@ from ..io.trial import ImuTrial
 from ..model.geometry import LegGeometry
 from ..model.leg_model import DOF_NAMES, LegModel
 from .artefacts import Artefacts, ArtefactTruth
-from .motions import MOTION_FUNCTIONS, MOTIONS, smoothstep
+from .motions import MOTION_FUNCTIONS, MOTIONS, MotionKinematics, smoothstep
 from .noise import ImuNoise, SoftTissue
 from .placements import random_placements
 from .sensor_errors import SensorErrors, draw_sensor_errors, resample_at
@@ -55,6 +55,10 @@ _STA_DRIVERS: dict[str, tuple[int, ...]] = {
     "shank": (3, 6),
     "foot": (6,),
 }
+
+#: Configuration coordinates of the composite root joint (pelvis x, y, z, heading, tilt,
+#: obliquity, rotation); the 9 leg DOFs follow.
+_N_ROOT = 7
 
 
 @dataclass
@@ -122,6 +126,9 @@ def simulate(
 ) -> Simulation:
     """Simulate a four-IMU leg trial with known truth.
 
+    Stages: check the request → leg model → joint trajectories → rigid sensor signals →
+    non-rigid sensor motion and gravity → measured signals (errors, noise) → truth.
+
     Args:
         motion: one of :data:`~lowerlimb.simulation.motions.MOTIONS`.
         duration_s: trial length including the initial standing period, s (≥ 2).
@@ -148,6 +155,94 @@ def simulate(
         InputError: unknown motion, side, or non-positive duration/rate.
     """
     t_start = time.perf_counter()
+    side = _check_request(motion, side, rate_hz, duration_s)
+    noise = ImuNoise() if noise is None else noise
+    sta = SoftTissue() if soft_tissue is True else (soft_tissue or None)
+    rng = np.random.default_rng(seed)
+    art = artefacts if artefacts is not None and artefacts.active else None
+    sim_model = _sim_model(geometry, side, height_m, mass_kg, rng)
+    traj = _trajectories(sim_model, motion, duration_s, rate_hz, still_s, rng)
+    sta_dirs = _sta_directions(sta, rng) if sta is not None else None
+    sig = _rigid_signals(sim_model, traj, with_alpha=sta is not None or art is not None)
+    art_rng = np.random.default_rng([seed, 9] if art is None or art.seed is None else art.seed)
+    contacts, tissue = _artefact_motion(art, rate_hz, traj, sig, art_rng)
+    sta_off = _move_sensors(sig, traj, sta_dirs, tissue)
+    mag = {sensor: np.einsum("nji,j->ni", sig.rot[sensor], MAG_FIELD_ENU_UT) for sensor in SENSORS}
+    clean = ImuTrial(traj.t.copy(), sig.acc, sig.gyr, mag if with_mag else None, side)
+    errors = draw_sensor_errors(art, traj.t.size, art_rng) if art is not None else None
+    trial, bias = _measure(traj.t, sig, mag, errors, noise, rng, with_mag, side)
+    true_model, truth = _truth(
+        sim_model, motion, seed, rate_hz, duration_s, height_m, mass_kg, noise, sta, bias
+    )
+    art_truth = _artefact_truth(art, errors, contacts, tissue, sig.base_pl)
+    if art_truth is not None:
+        truth["artefacts"] = art_truth.to_dict()
+    return Simulation(
+        trial=trial,
+        clean=clean,
+        quat_wxyz={sensor: quat_make_continuous(quat_from_matrix(sig.rot[sensor])) for sensor in SENSORS},
+        sensor_pos_m=sig.pos,
+        angles_rad=traj.kin.angles_rad.copy(),
+        positions_m=_positions(sig),
+        truth=truth,
+        model=true_model,
+        gyr_bias_rps=bias,
+        sta_offsets_m=sta_off,
+        runtime_s=time.perf_counter() - t_start,
+        artefacts=art_truth,
+    )
+
+
+@dataclass
+class _Trajectories:
+    """The sampled motion.
+
+    Attributes:
+        t: (N,) sample times from 0, s.
+        s: (N,) start-up ramp (0 while standing still, 1 after), dimensionless.
+        kin: the motion's joint-angle, pelvis and gait-phase trajectories.
+        Q: (N, nq) configuration of the simulation model (root joint, then the 9 leg DOFs).
+        V: (N, nq) its first derivative from the quintic spline, per s.
+        A: (N, nq) its second derivative, per s².
+    """
+
+    t: FloatArray
+    s: FloatArray
+    kin: MotionKinematics
+    Q: FloatArray
+    V: FloatArray
+    A: FloatArray
+
+
+@dataclass
+class _SensorSignals:
+    """Per-sensor signals ``{sensor: array}`` on the N samples, updated in place by the stages.
+
+    Attributes:
+        gyr: (N, 3) angular velocity in the sensor frame, rad/s.
+        acc: (N, 3) classical linear acceleration in the sensor frame, m/s² (specific force
+            once :func:`_move_sensors` has subtracted gravity).
+        alpha: (N, 3) angular acceleration in the sensor frame, rad/s² (only filled when
+            soft tissue or artefacts need it).
+        rot: (N, 3, 3) sensor → ENU rotation.
+        pos: (N, 3) sensor position in ENU, m.
+        base_pl: nominal placement of each sensor frame in its segment frame.
+        hip_c: (N, 3) hip centre in ENU, m.
+        ankle_c: (N, 3) ankle centre in ENU, m.
+    """
+
+    gyr: dict[str, FloatArray]
+    acc: dict[str, FloatArray]
+    alpha: dict[str, FloatArray]
+    rot: dict[str, FloatArray]
+    pos: dict[str, FloatArray]
+    base_pl: dict[str, pin.SE3]
+    hip_c: FloatArray
+    ankle_c: FloatArray
+
+
+def _check_request(motion: str, side: str, rate_hz: float, duration_s: float) -> str:
+    """The checked side (``"left"``/``"right"``); raises :class:`InputError` for a bad request."""
     if motion not in MOTION_FUNCTIONS:
         raise InputError(f"unknown motion '{motion}'; choose one of {', '.join(MOTIONS)}")
     try:
@@ -156,122 +251,205 @@ def simulate(
         raise InputError(str(e)) from None
     if rate_hz <= 0 or duration_s < 2.0:
         raise InputError("duration must be at least 2 s and the rate positive; e.g. --duration 60")
-    noise = ImuNoise() if noise is None else noise
-    sta = SoftTissue() if soft_tissue is True else (soft_tissue or None)
-    rng = np.random.default_rng(seed)
-    art = artefacts if artefacts is not None and artefacts.active else None
+    return side
 
+
+def _sim_model(
+    geometry: LegGeometry | None, side: str, height_m: float, mass_kg: float, rng: np.random.Generator
+) -> LegModel:
+    """The leg to simulate, on the composite root joint (:func:`_root_joint`).
+
+    Without ``geometry``: the template for ``height_m`` (m) and ``mass_kg`` (kg) with random
+    sensor placements drawn from ``rng``.
+    """
     if geometry is None:
         geometry = LegGeometry.from_anthropometry(side, height_m, mass_kg)
         geometry.sensor_placements = random_placements(geometry, rng)
-    sim_model = LegModel(geometry, root_joint=_root_joint())
-    model, data = sim_model.model, sim_model.data
+    return LegModel(geometry, root_joint=_root_joint())
 
+
+def _trajectories(
+    sim_model: LegModel,
+    motion: str,
+    duration_s: float,
+    rate_hz: float,
+    still_s: float,
+    rng: np.random.Generator,
+) -> _Trajectories:
+    """The motion sampled at ``rate_hz`` (Hz) over ``duration_s`` (s), after ``still_s`` (s) still.
+
+    Derivatives come from a quintic spline; the pelvis is anchored at the ankle when the motion
+    gives no pelvis position.
+    """
+    model = sim_model.model
     n = int(round(duration_s * rate_hz))
     t = np.arange(n) / rate_hz
     s = smoothstep(t, still_s, 1.0)
     kin = MOTION_FUNCTIONS[motion](t - still_s, s, rng)
-
-    n_root = 7
     Q = np.zeros((n, model.nq))
     Q[:, 3] = kin.yaw_rad
     Q[:, 4:7] = kin.pelvis_euler_rad
-    Q[:, n_root:] = kin.angles_rad
+    Q[:, _N_ROOT:] = kin.angles_rad
     if kin.pelvis_pos_m is None:
         Q[:, :3] = _anchor_pelvis(sim_model, Q)
     else:
         Q[:, :3] = kin.pelvis_pos_m
     spline = make_interp_spline(t, Q, k=5)
-    V = spline.derivative(1)(t)
-    A = spline.derivative(2)(t)
+    return _Trajectories(t, s, kin, Q, spline.derivative(1)(t), spline.derivative(2)(t))
 
-    # soft-tissue displacement (segment frame) and its derivatives
+
+def _artefact_motion(
+    art: Artefacts | None,
+    rate_hz: float,
+    traj: _Trajectories,
+    sig: _SensorSignals,
+    rng: np.random.Generator,
+) -> tuple[tuple[FloatArray, FloatArray], dict[str, TissueMotion] | None]:
+    """Initial contacts (s) and each sensor's non-rigid motion (:func:`_tissue_motion`).
+
+    Without a profile: no contacts and ``None``.
+    """
+    if art is None:
+        return (np.zeros(0), np.zeros(0)), None
+    QVA = (traj.Q, traj.V, traj.A)
+    return _tissue_motion(art, rate_hz, traj.t, traj.s, traj.kin.gait_phase, sig.acc, sig.base_pl, QVA, rng)
+
+
+def _sta_directions(sta: SoftTissue, rng: np.random.Generator) -> dict[str, FloatArray]:
+    """Per sensor, (n_drivers, 3) displacement per driving joint angle in the segment frame, m/rad."""
     sta_dirs: dict[str, FloatArray] = {}
-    if sta is not None:
-        sta_rng = rng if sta.seed is None else np.random.default_rng(sta.seed)
-        for sensor in SENSORS:
-            d = sta_rng.normal(size=(len(_STA_DRIVERS[sensor]), 3))
-            d *= sta.amplitude_m_per_rad / np.linalg.norm(d, axis=1, keepdims=True)
-            sta_dirs[sensor] = d
+    sta_rng = rng if sta.seed is None else np.random.default_rng(sta.seed)
+    for sensor in SENSORS:
+        d = sta_rng.normal(size=(len(_STA_DRIVERS[sensor]), 3))
+        d *= sta.amplitude_m_per_rad / np.linalg.norm(d, axis=1, keepdims=True)
+        sta_dirs[sensor] = d
+    return sta_dirs
 
+
+def _rigid_signals(sim_model: LegModel, traj: _Trajectories, with_alpha: bool) -> _SensorSignals:
+    """Signals of rigidly mounted sensors, by Pinocchio forward kinematics at every sample.
+
+    Frame velocity, classical acceleration (without gravity) and placement of each sensor,
+    and the hip and ankle centres; see :class:`_SensorSignals` for shapes, frames and units.
+    """
+    model, data = sim_model.model, sim_model.data
+    n = traj.t.size
+    Q, V, A = traj.Q, traj.V, traj.A
     fids = {sensor: sim_model.frame_id(f"imu_{sensor}") for sensor in SENSORS}
     base_pl = {sensor: pin.SE3(model.frames[fids[sensor]].placement) for sensor in SENSORS}
     hip_j = model.getJointId(DOF_NAMES[0])
     ankle_j = model.getJointId(DOF_NAMES[6])
-    gyr = {sensor: np.empty((n, 3)) for sensor in SENSORS}
-    acc = {sensor: np.empty((n, 3)) for sensor in SENSORS}
-    rot = {sensor: np.empty((n, 3, 3)) for sensor in SENSORS}
-    pos = {sensor: np.empty((n, 3)) for sensor in SENSORS}
-    sta_off = {sensor: np.zeros((n, 3)) for sensor in SENSORS}
-    hip_c = np.empty((n, 3))
-    ankle_c = np.empty((n, 3))
+    sig = _SensorSignals(
+        gyr={sensor: np.empty((n, 3)) for sensor in SENSORS},
+        acc={sensor: np.empty((n, 3)) for sensor in SENSORS},
+        alpha={sensor: np.empty((n, 3)) for sensor in SENSORS},
+        rot={sensor: np.empty((n, 3, 3)) for sensor in SENSORS},
+        pos={sensor: np.empty((n, 3)) for sensor in SENSORS},
+        base_pl=base_pl,
+        hip_c=np.empty((n, 3)),
+        ankle_c=np.empty((n, 3)),
+    )
     LOCAL = pin.ReferenceFrame.LOCAL
-    alpha = {sensor: np.empty((n, 3)) for sensor in SENSORS}
     for k in range(n):
         pin.forwardKinematics(model, data, Q[k], V[k], A[k])
-        hip_c[k] = data.oMi[hip_j].translation
-        ankle_c[k] = data.oMi[ankle_j].translation
+        sig.hip_c[k] = data.oMi[hip_j].translation
+        sig.ankle_c[k] = data.oMi[ankle_j].translation
         for sensor in SENSORS:
             fid = fids[sensor]
             oMf = pin.updateFramePlacement(model, data, fid)
-            gyr[sensor][k] = pin.getFrameVelocity(model, data, fid, LOCAL).angular
-            acc[sensor][k] = pin.getFrameClassicalAcceleration(model, data, fid, LOCAL).linear
-            if sta is not None or art is not None:
-                alpha[sensor][k] = pin.getFrameAcceleration(model, data, fid, LOCAL).angular
-            rot[sensor][k] = oMf.rotation
-            pos[sensor][k] = oMf.translation
-    tissue: dict[str, TissueMotion] = {}
-    contacts = (np.zeros(0), np.zeros(0))
-    art_rng = np.random.default_rng([seed, 9] if art is None or art.seed is None else art.seed)
-    if art is not None:
-        contacts, tissue = _tissue_motion(
-            art, rate_hz, t, s, kin.gait_phase, acc, base_pl, (Q, V, A), art_rng
-        )
+            sig.gyr[sensor][k] = pin.getFrameVelocity(model, data, fid, LOCAL).angular
+            sig.acc[sensor][k] = pin.getFrameClassicalAcceleration(model, data, fid, LOCAL).linear
+            if with_alpha:
+                sig.alpha[sensor][k] = pin.getFrameAcceleration(model, data, fid, LOCAL).angular
+            sig.rot[sensor][k] = oMf.rotation
+            sig.pos[sensor][k] = oMf.translation
+    return sig
+
+
+def _move_sensors(
+    sig: _SensorSignals,
+    traj: _Trajectories,
+    sta_dirs: dict[str, FloatArray] | None,
+    tissue: dict[str, TissueMotion] | None,
+) -> dict[str, FloatArray]:
+    """Soft-tissue sliding, artefact displacement, gravity and artefact rotation, in place.
+
+    Returns:
+        ``{sensor: (N, 3)}`` soft-tissue displacement in the segment frame, m (empty without
+        soft tissue).
+    """
+    sta_off: dict[str, FloatArray] = {}
     for sensor in SENSORS:
-        if sta is not None:
+        R_seg_s = sig.base_pl[sensor].rotation
+        if sta_dirs is not None:
             # the sensor slides by Δ(t) on its segment (Δ in the segment frame, linear in the
-            # joint angles): the point's classical acceleration in the sensor frame is
-            # a0 + α×r + ω×(ω×r) + 2 ω×ṙ + r̈ with r = R_seg_sensorᵀ Δ
+            # joint angles)
             d = sta_dirs[sensor]
-            idx = [n_root + i for i in _STA_DRIVERS[sensor]]
-            R_seg_s = base_pl[sensor].rotation
-            off = Q[:, idx] @ d
-            sta_off[sensor] = off
-            r, r_v, r_a = (x @ d @ R_seg_s for x in (Q[:, idx], V[:, idx], A[:, idx]))
-            w = gyr[sensor]
-            acc[sensor] += (
-                np.cross(alpha[sensor], r) + np.cross(w, np.cross(w, r)) + 2.0 * np.cross(w, r_v) + r_a
-            )
-            pos[sensor] += np.einsum("nij,nj->ni", rot[sensor], r)
-        if art is not None:
+            idx = [_N_ROOT + i for i in _STA_DRIVERS[sensor]]
+            sta_off[sensor] = traj.Q[:, idx] @ d
+            _slide(sig, sensor, *(x @ d @ R_seg_s for x in (traj.Q[:, idx], traj.V[:, idx], traj.A[:, idx])))
+        if tissue is not None:
             tm = tissue[sensor]
-            R_seg_s = base_pl[sensor].rotation
-            r, r_v, r_a = (x @ R_seg_s for x in (tm.d, tm.d_v, tm.d_a))
-            w = gyr[sensor]
-            acc[sensor] += (
-                np.cross(alpha[sensor], r) + np.cross(w, np.cross(w, r)) + 2.0 * np.cross(w, r_v) + r_a
-            )
-            pos[sensor] += np.einsum("nij,nj->ni", rot[sensor], r)
-        acc[sensor] -= np.einsum("nji,j->ni", rot[sensor], GRAVITY_ENU)
-        if art is not None:
-            # the sensor is rotated by φ (nominal sensor frame) relative to its nominal frame
-            R_seg_s = base_pl[sensor].rotation
-            phi, phi_v = tissue[sensor].th @ R_seg_s, tissue[sensor].th_v @ R_seg_s
-            R_w = exp_so3(phi)
-            acc[sensor] = np.einsum("nji,nj->ni", R_w, acc[sensor])
-            gyr[sensor] = np.einsum("nji,nj->ni", R_w, gyr[sensor]) + np.einsum(
-                "nij,nj->ni", right_jacobian_so3(phi), phi_v
-            )
-            rot[sensor] = rot[sensor] @ R_w
+            _slide(sig, sensor, *(x @ R_seg_s for x in (tm.d, tm.d_v, tm.d_a)))
+        sig.acc[sensor] -= np.einsum("nji,j->ni", sig.rot[sensor], GRAVITY_ENU)
+        if tissue is not None:
+            _tilt(sig, sensor, tissue[sensor].th @ R_seg_s, tissue[sensor].th_v @ R_seg_s)
+    return sta_off
 
-    quat = {sensor: quat_make_continuous(quat_from_matrix(rot[sensor])) for sensor in SENSORS}
-    mag = {sensor: np.einsum("nji,j->ni", rot[sensor], MAG_FIELD_ENU_UT) for sensor in SENSORS}
-    Rp = rot["pelvis"]
-    p2f = np.einsum("nji,nj->ni", Rp, pos["foot"] - pos["pelvis"])
-    h2a = np.einsum("nji,nj->ni", Rp, ankle_c - hip_c)
 
-    clean = ImuTrial(t.copy(), acc, gyr, mag if with_mag else None, side)
-    errors = draw_sensor_errors(art, n, art_rng) if art is not None else None
+def _slide(sig: _SensorSignals, sensor: str, r: FloatArray, r_v: FloatArray, r_a: FloatArray) -> None:
+    """Move ``sensor`` by ``r`` (N, 3) in its nominal frame, m (``r_v`` m/s, ``r_a`` m/s²).
+
+    The point's classical acceleration in the sensor frame is
+    a0 + α×r + ω×(ω×r) + 2 ω×ṙ + r̈; its ENU position moves by ``R r``.
+    """
+    w = sig.gyr[sensor]
+    sig.acc[sensor] += (
+        np.cross(sig.alpha[sensor], r) + np.cross(w, np.cross(w, r)) + 2.0 * np.cross(w, r_v) + r_a
+    )
+    sig.pos[sensor] += np.einsum("nij,nj->ni", sig.rot[sensor], r)
+
+
+def _tilt(sig: _SensorSignals, sensor: str, phi: FloatArray, phi_v: FloatArray) -> None:
+    """Rotate ``sensor`` by φ (N, 3), rad, in its nominal frame (φ̇ ``phi_v``, rad/s).
+
+    Specific force and gyro are re-expressed in the rotated frame (the gyro gains
+    ``J_r(φ) φ̇``) and the orientation becomes ``R exp(φ)``.
+    """
+    R_w = exp_so3(phi)
+    sig.acc[sensor] = np.einsum("nji,nj->ni", R_w, sig.acc[sensor])
+    sig.gyr[sensor] = np.einsum("nji,nj->ni", R_w, sig.gyr[sensor]) + np.einsum(
+        "nij,nj->ni", right_jacobian_so3(phi), phi_v
+    )
+    sig.rot[sensor] = sig.rot[sensor] @ R_w
+
+
+def _positions(sig: _SensorSignals) -> FloatArray:
+    """(N, 6) pelvis→foot sensor and hip→ankle centre vectors in the pelvis sensor frame, m."""
+    Rp = sig.rot["pelvis"]
+    p2f = np.einsum("nji,nj->ni", Rp, sig.pos["foot"] - sig.pos["pelvis"])
+    h2a = np.einsum("nji,nj->ni", Rp, sig.ankle_c - sig.hip_c)
+    return np.hstack([p2f, h2a])
+
+
+def _measure(
+    t: FloatArray,
+    sig: _SensorSignals,
+    mag: dict[str, FloatArray],
+    errors: SensorErrors | None,
+    noise: ImuNoise,
+    rng: np.random.Generator,
+    with_mag: bool,
+    side: str,
+) -> tuple[ImuTrial, dict[str, FloatArray]]:
+    """The measured trial: clock/scale/misalignment ``errors`` (if any), gyro bias and white noise.
+
+    Returns:
+        The trial (acc m/s², gyr rad/s, mag µT in the sensor frames) and ``{sensor: (3,)}`` the
+        gyro bias added, rad/s.
+    """
+    n = t.size
+    acc, gyr = sig.acc, sig.gyr
     m_acc, m_gyr, m_mag = (acc, gyr, mag) if errors is None else _apply_errors(t, acc, gyr, mag, errors)
     bias = {}
     n_acc, n_gyr, n_mag = {}, {}, {}
@@ -281,8 +459,25 @@ def simulate(
         n_gyr[sensor] = m_gyr[sensor] + bias[sensor] + noise.gyr_std_rps * rng.normal(size=(n, 3))
         n_acc[sensor] = m_acc[sensor] + noise.acc_std_mps2 * rng.normal(size=(n, 3))
         n_mag[sensor] = m_mag[sensor] + noise.mag_std_ut * rng.normal(size=(n, 3))
-    trial = ImuTrial(t.copy(), n_acc, n_gyr, n_mag if with_mag else None, side)
+    return ImuTrial(t.copy(), n_acc, n_gyr, n_mag if with_mag else None, side), bias
 
+
+def _truth(
+    sim_model: LegModel,
+    motion: str,
+    seed: int,
+    rate_hz: float,
+    duration_s: float,
+    height_m: float,
+    mass_kg: float,
+    noise: ImuNoise,
+    sta: SoftTissue | None,
+    bias: dict[str, FloatArray],
+) -> tuple[LegModel, dict[str, Any]]:
+    """The true model (fixed root) and its parameters in the calibration.json schema.
+
+    Adds the simulation's settings, the gyro biases (rad/s) and the URDF.
+    """
     true_model = LegModel(sim_model.geometry)
     truth = true_model.calibration_dict("truth")
     truth.update(
@@ -304,32 +499,32 @@ def simulate(
             "urdf": true_model.to_urdf_string(),
         }
     )
-    art_truth = None
-    if art is not None and errors is not None:
-        art_truth = ArtefactTruth(
-            params=art,
-            contact_times_s=contacts[0],
-            contra_contact_times_s=contacts[1],
-            displacement_m={sensor: tissue[sensor].d for sensor in SENSORS},
-            rotation_rad={sensor: tissue[sensor].th @ base_pl[sensor].rotation for sensor in SENSORS},
-            clock_offset_s=errors.clock_offset_s,
-            acc_matrix=errors.acc_matrix,
-            gyr_matrix=errors.gyr_matrix,
-        )
-        truth["artefacts"] = art_truth.to_dict()
-    return Simulation(
-        trial=trial,
-        clean=clean,
-        quat_wxyz=quat,
-        sensor_pos_m=pos,
-        angles_rad=kin.angles_rad.copy(),
-        positions_m=np.hstack([p2f, h2a]),
-        truth=truth,
-        model=true_model,
-        gyr_bias_rps=bias,
-        sta_offsets_m=sta_off if sta is not None else {},
-        runtime_s=time.perf_counter() - t_start,
-        artefacts=art_truth,
+    return true_model, truth
+
+
+def _artefact_truth(
+    art: Artefacts | None,
+    errors: SensorErrors | None,
+    contacts: tuple[FloatArray, FloatArray],
+    tissue: dict[str, TissueMotion] | None,
+    base_pl: dict[str, pin.SE3],
+) -> ArtefactTruth | None:
+    """What the realism profile did; ``None`` without a profile.
+
+    Contact times (s), displacement (m) and rotation (rad) in the nominal sensor frame, and
+    the clock and scale errors.
+    """
+    if art is None or errors is None or tissue is None:
+        return None
+    return ArtefactTruth(
+        params=art,
+        contact_times_s=contacts[0],
+        contra_contact_times_s=contacts[1],
+        displacement_m={sensor: tissue[sensor].d for sensor in SENSORS},
+        rotation_rad={sensor: tissue[sensor].th @ base_pl[sensor].rotation for sensor in SENSORS},
+        clock_offset_s=errors.clock_offset_s,
+        acc_matrix=errors.acc_matrix,
+        gyr_matrix=errors.gyr_matrix,
     )
 
 
