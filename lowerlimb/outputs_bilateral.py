@@ -21,10 +21,11 @@ from .calibration.options import CalibrationOptions, check_method
 from .conventions import SIDES
 from .errors import InputError
 from .gait import GaitEvents, write_events_csv
-from .io.atomic import check_new_directory, populate_directory
+from .io.atomic import populate_directory
 from .io.bilateral_tables import write_bilateral_tables
 from .io.bilateral_trial import BilateralTrial
-from .outputs import CalibrateOptions, _print_warnings
+from .io.result_files import OUTPUT_FILES
+from .outputs import CalibrateOptions, _print_warnings, check_options, residual_lines
 
 __all__ = [
     "LEG_URDF_FILES",
@@ -144,8 +145,15 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
         FileNotFoundError: the trial does not exist.
     """
     out = Path(options.out)
-    check_new_directory(out)
-    for given, flag in ((options.calibration, "--calibration"), (options.s2j, "--s2j")):
+    check_options(options)  # method, filter, height, mass and the output folder, before computing
+    single_leg_only = (
+        (options.calibration, "--calibration"),
+        (options.s2j, "--s2j"),
+        (options.exports or None, "--export"),
+        (options.reference, "--reference"),
+        (None if set(options.outputs) == set(OUTPUT_FILES) else options.outputs, "--outputs/--no-report"),
+    )
+    for given, flag in single_leg_only:
         if given is not None:
             raise InputError(
                 f"{flag} is a single-leg option; a two-leg trial is calibrated on itself (drop {flag}, "
@@ -175,10 +183,8 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
     write_bilateral_result(result, out)
     print(f"joint calibration of both legs took {result.runtime_s:.3f} s; wrote {out}/", file=sys.stderr)
     for side in SIDES:
-        for name, joint in result.legs[side].calibration.joints.items():
-            print(
-                f"  {side:<5s} {name:<6s} rms residual {joint.to_dict()['rms_residual']:.4g}", file=sys.stderr
-            )
+        for line in residual_lines(result.legs[side].calibration_dict()):
+            print(f"  {side:<5s} {line}", file=sys.stderr)
     h = result.hips
     print(
         f"  hips {h.spacing_m * 1000:.0f} mm apart (de Leva {h.expected_spacing_m * 1000:.0f} mm)",

@@ -115,6 +115,9 @@ def test_side_and_single_leg_options_are_refused_for_two_legs(two_legs, tmp_path
     for extra, words in (
         (["--side", "right"], "is a two-leg trial"),
         (["--calibration", str(csv)], "--calibration is a single-leg option"),
+        (["--export", "opensim"], "--export is a single-leg option"),
+        (["--no-report"], "--outputs/--no-report is a single-leg option"),
+        (["--height", "inf"], "--height"),
     ):
         r = _cli("calibrate", str(csv), "--out", str(tmp_path / "o"), *extra)
         assert r.returncode == 2, r.stderr
