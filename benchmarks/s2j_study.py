@@ -85,9 +85,7 @@ def find_orientation_estimator() -> tuple[Estimator | None, str]:
 class Part:
     """The samples ``sl`` of a simulation: true poses and angles, estimated orientations."""
 
-    def __init__(
-        self, sim: Simulation, sl: slice, est: tuple[dict[str, FloatArray], FloatArray] | None
-    ):
+    def __init__(self, sim: Simulation, sl: slice, est: tuple[dict[str, FloatArray], FloatArray] | None):
         self.quat = {s: sim.quat_wxyz[s][sl] for s in SENSORS}
         self.pos = {s: sim.sensor_pos_m[s][sl] for s in SENSORS}
         self.angles = sim.angles_rad[sl]

@@ -60,6 +60,7 @@ __all__ = [
 #: Name of the S2J sidecar written beside the URDF.
 S2J_SIDECAR = OUTPUT_FILES["s2j"]
 
+
 def write_outputs(
     result: TrialResult,
     directory: Path,
