@@ -145,9 +145,14 @@ def _use_mag(trial: BilateralTrial, filter_name: str, use_mag: bool) -> bool:
     return True
 
 
-def _process_leg(trial: BilateralTrial, side: str, **kwargs: Any) -> TrialResult:
+def _process_leg(
+    trial: BilateralTrial, side: str, **kwargs: Any
+) -> tuple[TrialResult, list[warnings.WarningMessage]]:
+    """One leg through the single-leg pipeline, with the warnings it raised (to re-issue per side)."""
     try:
-        return process_trial(trial.leg(side), **kwargs)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            return process_trial(trial.leg(side), **kwargs), list(caught)
     except WrongSideError as e:
         raise BilateralSideError(side, e.lateral_m) from None
     except SensorOrderError as e:
@@ -203,10 +208,17 @@ def process_bilateral_trial(
         "calibration_options": calibration_options,
         "side_check": side_check,
     }
-    legs = {"left": _process_leg(trial, "left", use_mag=mag, **kwargs)}
-    legs["right"] = _process_leg(trial, "right", use_mag=mag and legs["left"].used_mag, **kwargs)
+    legs: dict[str, TrialResult] = {}
+    caught: dict[str, list[warnings.WarningMessage]] = {}
+    legs["left"], caught["left"] = _process_leg(trial, "left", use_mag=mag, **kwargs)
+    legs["right"], caught["right"] = _process_leg(
+        trial, "right", use_mag=mag and legs["left"].used_mag, **kwargs
+    )
     if legs["left"].used_mag and not legs["right"].used_mag:  # the right field was rejected
-        legs["left"] = _process_leg(trial, "left", use_mag=False, **kwargs)
+        legs["left"], caught["left"] = _process_leg(trial, "left", use_mag=False, **kwargs)
+    for side in SIDES:  # each leg's warnings once, naming the leg
+        for w in caught[side]:
+            warnings.warn(f"{side} leg: {w.message}", w.category, stacklevel=2)
     timings: dict[str, float] = {}
     for side, r in legs.items():
         for k, v in r.timings_s.items():
