@@ -194,6 +194,46 @@ def _write_report(
         truth_angles_rad=truth_angles_rad,
         truth_positions_m=truth_positions_m,
         extra_sections=extra_sections,
+        gait_html=gait_cycles_html(result),
+    )
+
+
+#: Fewest strides for which the report shows gait-cycle curves.
+MIN_REPORT_STRIDES = 3
+
+
+def gait_cycles_html(result: TrialResult) -> str:
+    """The report's gait-cycle section of a walking trial, or ``""`` when the trial shows no gait.
+
+    Initial contacts come from the shank and foot gyros (:func:`lowerlimb.gait.detect_side_events`);
+    each stride's angles are time-normalised (:func:`lowerlimb.viz.gait_curves.gait_report_section`),
+    so a long walk reads as mean ± SD curves rather than a solid block of time plots.
+    """
+    from .conventions import ANGLE_COLUMNS
+    from .gait import detect_side_events
+    from .viz.gait_curves import gait_report_section
+
+    t = result.trial
+    bias = result.calibration.gyro_bias
+    zero = np.zeros(3)
+    try:
+        events = detect_side_events(
+            t.gyr["shank"] - bias.get("shank", zero),
+            t.rate_hz,
+            t.side,
+            foot_gyr=t.gyr["foot"] - bias.get("foot", zero),
+            foot_acc=t.acc["foot"],
+            start_time_s=float(t.time_s[0]),
+        )
+    except InputError:  # no walking in this trial (squats, sit-to-stand…)
+        return ""
+    if len(events.initial_contact_s) < MIN_REPORT_STRIDES + 1:
+        return ""
+    return gait_report_section(
+        t.time_s,
+        {t.side: np.degrees(result.angles_rad)},
+        {t.side: list(events.initial_contact_s)},
+        list(ANGLE_COLUMNS[1:]),
     )
 
 
