@@ -16,6 +16,8 @@ import sys
 import warnings
 from pathlib import Path
 
+import numpy as np
+
 from .bilateral import BilateralResult, process_bilateral_trial
 from .calibration.options import CalibrationOptions, check_method
 from .conventions import SIDES
@@ -101,6 +103,26 @@ def _summary_rows(result: BilateralResult) -> str:
     return "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>" for k, v in rows)
 
 
+def _gait_section(result: BilateralResult) -> str:
+    """Left and right gait-cycle curves overlaid and the parameter table with symmetry indices."""
+    from .conventions import ANGLE_COLUMNS
+    from .viz.gait_curves import gait_report_section
+
+    events = result.gait.events
+    contacts = {e.side: list(e.initial_contact_s) for e in (events.sides() if events else [])}
+    if sum(len(c) for c in contacts.values()) < 4:
+        return ""
+    gait = result.gait.to_dict()
+    return gait_report_section(
+        result.trial.time_s,
+        {side: np.degrees(result.legs[side].angles_rad) for side in contacts},
+        contacts,
+        list(ANGLE_COLUMNS[1:]),
+        parameters={side: gait[side] for side in SIDES if isinstance(gait.get(side), dict)},
+        overall={k: v for k, v in gait.items() if k not in SIDES and not isinstance(v, (list, str))},
+    )
+
+
 def _write_report(result: BilateralResult, directory: Path, calibration: dict[str, object]) -> None:
     """``report.html``: a two-leg summary and each leg's single-leg report in an ``<iframe srcdoc>``."""
     from .viz.report import write_report
@@ -129,7 +151,7 @@ def _write_report(result: BilateralResult, directory: Path, calibration: dict[st
     page = (
         "<!DOCTYPE html><html><head><meta charset='utf-8'><title>lowerlimb: two legs</title></head>"
         "<body style='font-family:sans-serif'><h1>lowerlimb calibration report: two legs</h1>"
-        f"<table>{_summary_rows(result)}</table>{''.join(frames)}</body></html>"
+        f"<table>{_summary_rows(result)}</table>{_gait_section(result)}{''.join(frames)}</body></html>"
     )
     (directory / "report.html").write_text(page, encoding="utf-8")
 

@@ -174,3 +174,10 @@ def test_both_legs_calibrate_against_the_truth(two_legs):
     rmse = float(np.sqrt(np.mean(np.sum((f2f - sim.left_foot_to_right_foot_m) ** 2, axis=1))))
     assert rmse < 0.05, rmse
     np.testing.assert_allclose(f2f, pos[:, 4:7] - pos[:, 1:4], atol=2e-7)
+
+
+def test_two_leg_report_overlays_the_gait_cycles_of_both_sides(two_legs):
+    _, out = two_legs
+    page = (out / "report.html").read_text()
+    assert "id='gait-cycles'" in page  # both simulated legs walk (in phase)
+    assert "gait-parameters" in page and "SI (%)" in page
