@@ -57,7 +57,7 @@ class PlausibilityParams:
     swap_ratio: float = 0.7
     side_min_offset_m: float = 0.03
     side_max_offset_m: float = 0.2
-    order_check_samples: int = 6000
+    order_check_samples: int = 1500
 
 
 class SensorOrderError(InputError):
