@@ -297,6 +297,15 @@ def check_options(options: CalibrateOptions, bounds: InputBounds = INPUT_BOUNDS)
     check_new_directory(Path(options.out))
 
 
+def announce(options: CalibrateOptions, n_samples: int, rate_hz: float, duration_s: float, legs: str) -> None:
+    """The first progress line of ``calibrate`` on stderr: the trial and the methods."""
+    print(
+        f"calibrating {options.trial} ({n_samples} samples at {rate_hz:.4g} Hz, {duration_s:.1f} s, "
+        f"{legs}, method {options.method}, filter {options.filter_name})",
+        file=sys.stderr,
+    )
+
+
 def run_calibrate(options: CalibrateOptions) -> TrialResult:
     """Calibrate a trial file and write its result folder; progress and warnings go to stderr.
 
@@ -326,11 +335,7 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
     exports = check_export_formats(options.exports)
     reference = None if options.reference is None else read_reference(options.reference)
     files = check_outputs(options.outputs)
-    print(
-        f"calibrating {options.trial} ({trial.n_samples} samples at {trial.rate_hz:.4g} Hz, "
-        f"{trial.duration_s:.1f} s, {trial.side} leg, method {options.method}, filter {options.filter_name})",
-        file=sys.stderr,
-    )
+    announce(options, trial.n_samples, trial.rate_hz, trial.duration_s, f"{trial.side} leg")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         result = process_trial(

@@ -27,7 +27,7 @@ from .io.atomic import populate_directory
 from .io.bilateral_tables import write_bilateral_tables
 from .io.bilateral_trial import BilateralTrial
 from .io.result_files import OUTPUT_FILES
-from .outputs import CalibrateOptions, _print_warnings, check_options, residual_lines
+from .outputs import CalibrateOptions, _print_warnings, announce, check_options, residual_lines
 
 __all__ = [
     "LEG_URDF_FILES",
@@ -183,11 +183,7 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
             )
     trial = BilateralTrial.from_csv(options.trial)
     check_method(options.method)
-    print(
-        f"calibrating {options.trial} ({trial.n_samples} samples at {trial.rate_hz:.4g} Hz, "
-        f"{trial.duration_s:.1f} s, two legs, method {options.method}, filter {options.filter_name})",
-        file=sys.stderr,
-    )
+    announce(options, trial.n_samples, trial.rate_hz, trial.duration_s, "two legs")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         result = process_bilateral_trial(

@@ -38,19 +38,18 @@ from .hips import HipCheck, HipParams, HipSpacingWarning, check_hips
 __all__ = ["BilateralResult", "BilateralSideError", "process_bilateral_trial"]
 
 
-class BilateralSideError(InputError):
+class BilateralSideError(WrongSideError):
     """One side's sensors look like the other leg: the left_* and right_* columns are swapped."""
 
     def __init__(self, side: str, lateral_m: float) -> None:
-        self.side = side
-        self.lateral_m = lateral_m
+        super().__init__(side, lateral_m)
         other = "right" if side == "left" else "left"
         where = "right" if lateral_m > 0 else "left"
-        super().__init__(
+        self.args = (
             f"the {side}_* sensors look like the {other} leg: the calibrated {side} hip centre lies "
             f"{abs(lateral_m) * 100:.1f} cm to the {where} of the pelvis sensor; "
             f"exchange the left_* and right_* columns (or pass --no-side-check if the pelvis sensor "
-            f"is not on the sacrum)"
+            f"is not on the sacrum)",
         )
 
 
