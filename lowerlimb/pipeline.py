@@ -331,7 +331,12 @@ def process_trial(
     if side_check and trial.standing_samples(1.0, still) > 0:
         # the pelvis frame's "right" comes from the standing reference: without one, no verdict
         g = model.geometry
-        check_side(trial.side, g.joint_origins["hip"][:3, 3] - g.sensor_placements["pelvis"][:3, 3])
+        hip_ex = calib.hip.excitation
+        check_side(
+            trial.side,
+            g.joint_origins["hip"][:3, 3] - g.sensor_placements["pelvis"][:3, 3],
+            hip_std_m=hip_ex.weakest_std if hip_ex is not None else 0.0,
+        )
     return TrialResult(
         trial,
         calib,

@@ -49,6 +49,10 @@ class PlausibilityParams:
             segment frame, beyond which the side is decided, m.
         side_max_offset_m: beyond this lateral offset the hip centre itself is
             implausible (a poor calibration) and no side verdict is given, m.
+        side_min_sigmas: the lateral offset must also exceed this many standard
+            deviations of the hip centre (along its most poorly determined direction):
+            a nearly planar walk leaves the hip centre unobservable, and its sign then
+            says nothing about the side.
         order_check_samples: the swap test fits each pairing on at most this many
             evenly spaced samples (it compares two residual levels; a long trial's
             every sample only makes it slower).
@@ -57,6 +61,7 @@ class PlausibilityParams:
     swap_ratio: float = 0.7
     side_min_offset_m: float = 0.03
     side_max_offset_m: float = 0.2
+    side_min_sigmas: float = 2.0
     order_check_samples: int = 1500
 
 
@@ -144,7 +149,11 @@ def check_sensor_order(
 
 
 def check_side(
-    side: str, hip_from_pelvis_sensor: FloatArray, params: PlausibilityParams | None = None
+    side: str,
+    hip_from_pelvis_sensor: FloatArray,
+    params: PlausibilityParams | None = None,
+    *,
+    hip_std_m: float = 0.0,
 ) -> None:
     """Refuse a side contradicted by the calibrated hip position (module docstring).
 
@@ -153,6 +162,8 @@ def check_side(
         hip_from_pelvis_sensor: (3,) hip centre minus pelvis sensor origin, in the
             pelvis segment frame (ISB: x anterior, y up, z right), m.
         params: thresholds (defaults: :class:`PlausibilityParams`).
+        hip_std_m: standard deviation of the calibrated hip centre along its most poorly
+            determined direction, m (0 when unknown).
 
     Raises:
         WrongSideError: with the lateral offset.
@@ -160,6 +171,8 @@ def check_side(
     p = params or PlausibilityParams()
     lateral = float(np.asarray(hip_from_pelvis_sensor, dtype=float)[2])
     if not p.side_min_offset_m <= abs(lateral) <= p.side_max_offset_m:
+        return
+    if not abs(lateral) >= p.side_min_sigmas * hip_std_m:
         return
     if (lateral > 0) != (side == "right"):
         raise WrongSideError(side, lateral)

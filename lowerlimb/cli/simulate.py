@@ -7,7 +7,7 @@ import json
 from collections.abc import Callable
 from pathlib import Path
 
-from lowerlimb.cli._common import EXIT_OK, add_side, positive_float
+from lowerlimb.cli._common import EXIT_OK, positive_float
 from lowerlimb.errors import InputError
 
 
@@ -15,7 +15,9 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
     """Register ``simulate`` and its options."""
     from lowerlimb.simulation import MOTIONS
 
-    p = subparsers.add_parser("simulate", help="simulate a four-IMU leg trial with known truth")
+    p = subparsers.add_parser(
+        "simulate", help="simulate a four-IMU leg trial (or a seven-IMU walk, --side both) with known truth"
+    )
     p.add_argument("--motion", choices=MOTIONS, default="walk", help="motion to simulate (default: walk)")
     p.add_argument("--duration", type=positive_float, default=60.0, help="trial length, s (default: 60)")
     p.add_argument(
@@ -29,9 +31,16 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "--truth",
         type=Path,
         help="truth JSON to write (calibration.json schema); true angles and positions go "
-        "beside it as <stem>_angles.csv (deg) and <stem>_positions.csv (m)",
+        "beside it as <stem>_angles.csv (deg) and <stem>_positions.csv (m); with --side both also "
+        "<stem>_events.csv and <stem>_gait.json",
     )
-    add_side(p)
+    p.add_argument(
+        "--side",
+        choices=("left", "right", "both"),
+        default="left",
+        help="instrumented leg; both: a seven-IMU walk (pelvis and both legs, opposite phase, "
+        "feet still on the ground in stance) (default: left)",
+    )
     p.add_argument("--rate", type=positive_float, default=100.0, help="sampling rate, Hz (default: 100)")
     p.add_argument(
         "--noise",
@@ -72,6 +81,7 @@ def check_arguments(args: argparse.Namespace) -> dict[str, Path]:
         )
     if not 0 <= args.seed <= b.max_seed:
         raise InputError(f"--seed {args.seed} is out of range; give an integer from 0 to {b.max_seed}")
+    _check_two_leg_options(args)
     targets = {"--out": Path(args.out)}
     if args.truth:
         truth = Path(args.truth)
@@ -79,8 +89,72 @@ def check_arguments(args: argparse.Namespace) -> dict[str, Path]:
         targets["--truth"] = truth
         targets["--truth (its angles)"] = Path(f"{stem}_angles.csv")
         targets["--truth (its positions)"] = Path(f"{stem}_positions.csv")
+        if args.side == "both":
+            targets["--truth (its events)"] = Path(f"{stem}_events.csv")
+            targets["--truth (its gait)"] = Path(f"{stem}_gait.json")
     check_new_files(targets, overwrite=args.force)
     return targets
+
+
+def _check_two_leg_options(args: argparse.Namespace) -> None:
+    """Refuse options the seven-IMU walk does not simulate.
+
+    Raises:
+        InputError: ``--side both`` with another motion, soft tissue or artefacts, or too short.
+    """
+    if args.side != "both":
+        return
+    if args.motion != "walk":
+        raise InputError(
+            f"--side both simulates walking only, not --motion {args.motion}; "
+            "drop --motion or use --side left"
+        )
+    if args.soft_tissue or args.artefacts != "none":
+        raise InputError(
+            "--side both simulates rigidly mounted sensors; drop --soft-tissue and --artefacts, "
+            "or simulate one leg (--side left)"
+        )
+    if args.duration < 6.0:
+        raise InputError(f"--side both needs at least 6 s of walk, not --duration {args.duration:g}")
+
+
+def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
+    """Simulate the seven-IMU walk and write the trial and truth files, all or none."""
+    from lowerlimb.io.atomic import write_files_atomically, write_text
+    from lowerlimb.io.bilateral_tables import write_bilateral_angles_csv, write_bilateral_positions_csv
+    from lowerlimb.simulation import ImuNoise, simulate_bilateral
+
+    noise = ImuNoise() if args.noise == "realistic" else ImuNoise.none()
+    sim = simulate_bilateral(
+        args.duration, args.seed, rate_hz=args.rate, noise=noise, with_mag=not args.no_mag
+    )
+    t = sim.trial.time_s
+    writers: dict[Path, Callable[[Path], None]] = {targets["--out"]: sim.trial.to_csv}
+    if args.truth:
+        rows = sorted(
+            (float(x), side, name)
+            for side, foot in sim.feet.items()
+            for name, times in (
+                ("initial_contact", foot.events.initial_contact_s),
+                ("toe_off", foot.events.toe_off_s),
+            )
+            for x in times
+        )
+        events = "time,side,event\n" + "".join(f"{x:.6f},{s},{n}\n" for x, s, n in rows)
+        writers[targets["--truth"]] = lambda p: write_text(p, json.dumps(sim.truth, indent=2))
+        writers[targets["--truth (its angles)"]] = lambda p: write_bilateral_angles_csv(p, t, sim.angles_rad)
+        writers[targets["--truth (its positions)"]] = lambda p: write_bilateral_positions_csv(
+            p, t, sim.positions_m
+        )
+        writers[targets["--truth (its events)"]] = lambda p: write_text(p, events)
+        writers[targets["--truth (its gait)"]] = lambda p: write_text(
+            p, json.dumps(sim.truth["gait"], indent=2)
+        )
+    write_files_atomically(writers, overwrite=args.force)
+    print(
+        f"wrote {args.out} ({sim.trial.n_samples} samples at {args.rate:g} Hz, walk, both legs)"
+        f"{' and ' + str(args.truth) if args.truth else ''}"
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -92,6 +166,9 @@ def run(args: argparse.Namespace) -> int:
 
     targets = check_arguments(args)
     check_interrupted()
+    if args.side == "both":
+        _run_two_legs(args, targets)
+        return EXIT_OK
     noise = ImuNoise() if args.noise == "realistic" else ImuNoise.none()
     sim = simulate(
         args.motion,

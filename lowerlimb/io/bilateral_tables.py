@@ -8,7 +8,13 @@ import numpy as np
 
 from ..conventions import ANGLE_COLUMNS, POSITION_COLUMNS, SIDES, FloatArray
 
-__all__ = ["BILATERAL_ANGLE_COLUMNS", "BILATERAL_POSITION_COLUMNS", "write_bilateral_tables"]
+__all__ = [
+    "BILATERAL_ANGLE_COLUMNS",
+    "BILATERAL_POSITION_COLUMNS",
+    "write_bilateral_angles_csv",
+    "write_bilateral_positions_csv",
+    "write_bilateral_tables",
+]
 
 #: ``time``, then ``left_<angle>`` and ``right_<angle>`` for the nine single-leg angle names (degrees).
 BILATERAL_ANGLE_COLUMNS: tuple[str, ...] = ("time",) + tuple(
@@ -27,6 +33,34 @@ BILATERAL_POSITION_COLUMNS: tuple[str, ...] = (
 )
 
 
+def write_bilateral_angles_csv(
+    path: str | os.PathLike[str], time_s: FloatArray, angles_rad: FloatArray
+) -> None:
+    """Write a two-leg ``angles.csv``: ``time`` (s) and (N, 18) angles in rad (degrees on disk)."""
+    np.savetxt(
+        os.fspath(path),
+        np.column_stack([time_s, np.rad2deg(angles_rad)]),
+        delimiter=",",
+        header=",".join(BILATERAL_ANGLE_COLUMNS),
+        comments="",
+        fmt="%.6f",
+    )
+
+
+def write_bilateral_positions_csv(
+    path: str | os.PathLike[str], time_s: FloatArray, positions_m: FloatArray
+) -> None:
+    """Write a two-leg ``positions.csv``: ``time`` (s) and (N, 15) vectors, m, pelvis sensor frame."""
+    np.savetxt(
+        os.fspath(path),
+        np.column_stack([time_s, positions_m]),
+        delimiter=",",
+        header=",".join(BILATERAL_POSITION_COLUMNS),
+        comments="",
+        fmt="%.7f",
+    )
+
+
 def write_bilateral_tables(
     directory: str | os.PathLike[str],
     time_s: FloatArray,
@@ -43,19 +77,5 @@ def write_bilateral_tables(
             :data:`BILATERAL_POSITION_COLUMNS` order.
     """
     d = os.fspath(directory)
-    np.savetxt(
-        os.path.join(d, "angles.csv"),
-        np.column_stack([time_s, np.rad2deg(angles_rad)]),
-        delimiter=",",
-        header=",".join(BILATERAL_ANGLE_COLUMNS),
-        comments="",
-        fmt="%.6f",
-    )
-    np.savetxt(
-        os.path.join(d, "positions.csv"),
-        np.column_stack([time_s, positions_m]),
-        delimiter=",",
-        header=",".join(BILATERAL_POSITION_COLUMNS),
-        comments="",
-        fmt="%.7f",
-    )
+    write_bilateral_angles_csv(os.path.join(d, "angles.csv"), time_s, angles_rad)
+    write_bilateral_positions_csv(os.path.join(d, "positions.csv"), time_s, positions_m)

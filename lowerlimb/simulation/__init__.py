@@ -11,19 +11,32 @@ from typing import TYPE_CHECKING, Any
 
 from .motions import MOTIONS
 
-__all__ = ["MOTIONS", "ArtefactTruth", "Artefacts", "ImuNoise", "Simulation", "SoftTissue", "simulate"]
+__all__ = [
+    "MOTIONS",
+    "ArtefactTruth",
+    "Artefacts",
+    "BilateralSimulation",
+    "ImuNoise",
+    "Simulation",
+    "SoftTissue",
+    "simulate",
+    "simulate_bilateral",
+]
 
 _EXPORTS = {
     "Artefacts": "artefacts",
     "ArtefactTruth": "artefacts",
     "ImuNoise": "noise",
     "SoftTissue": "noise",
+    "BilateralSimulation": "bilateral_walk",
     "Simulation": "simulator",
     "simulate": "simulator",
+    "simulate_bilateral": "bilateral_walk",
 }
 
 if TYPE_CHECKING:
     from .artefacts import Artefacts, ArtefactTruth
+    from .bilateral_walk import BilateralSimulation, simulate_bilateral
     from .noise import ImuNoise, SoftTissue
     from .simulator import Simulation, simulate
 

@@ -1,0 +1,409 @@
+"""Seven IMUs on a walking lower body: pelvis and both legs, with known truth.
+
+Stages of :func:`simulate_bilateral`: the two legs (template geometry, random sensor
+placements, one pelvis sensor shared by both) → the walk planned from footprints
+(:mod:`lowerlimb.simulation.footsteps`) → the pelvis pose, its height lowered where a
+leg could not reach its foot (:func:`_pelvis_root`) → joint angles by inverse
+kinematics (:mod:`lowerlimb.simulation.leg_ik`) → the rigid sensor signals of each leg
+by the single-leg simulator's forward kinematics → sensor noise and bias → truth:
+joints, angles, positions, gait events and spatio-temporal parameters
+(:mod:`lowerlimb.simulation.gait_truth`).
+
+Both legs move in opposite phase with double support, and each foot is still on the
+ground while flat; the heel (heel rocker) and the metatarsal heads (forefoot rocker)
+are pivots with zero velocity.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+from scipy.interpolate import make_interp_spline
+from scipy.signal import butter, filtfilt
+
+from ..conventions import (
+    GRAVITY_ENU,
+    SENSORS,
+    SIDES,
+    FloatArray,
+    matrix_from_euler_zxy,
+    quat_from_matrix,
+    quat_make_continuous,
+    rot_z,
+)
+from ..errors import InputError
+from ..io.bilateral_trial import BilateralTrial
+from ..model.anthropometry import ankle_height_m
+from ..model.geometry import LegGeometry
+from ..model.leg_model import DOF_NAMES, LegModel
+from .footsteps import (
+    MID_STANCE_FRACTION,
+    R_ENU_SEGMENT0,
+    FootPlan,
+    WalkDraw,
+    draw_walk,
+    first_contacts,
+    pelvis_path,
+    plan_feet,
+)
+from .gait_truth import GaitTruth, gait_truth
+from .leg_ik import solve_leg
+from .motions import MotionKinematics, smoothstep
+from .noise import ImuNoise
+from .placements import random_placements
+from .simulator import MAG_FIELD_ENU_UT, _rigid_signals, _root_joint, _SensorSignals, _Trajectories
+
+__all__ = ["BilateralSimulation", "simulate_bilateral"]
+
+#: Smallest knee flexion kept while walking (the pelvis is lowered to keep it), rad; the
+#: smoothed height aims at twice as much. Near a straight knee its angle changes like the
+#: square root of the hip–ankle distance, so a leg that touched full extension would see a
+#: kink in knee angle; adults keep 3–8° at initial contact and heel-off (Perry 2010).
+MIN_WALKING_KNEE_RAD = np.deg2rad(7.0)
+#: The minimum knee flexion is reached this long after the walk starts, s.
+KNEE_RAMP_S = 0.3
+#: Width of the soft minimum between the intended and the reachable pelvis height, m.
+SOFT_MIN_M = 0.004
+#: Cut-off of the zero-phase low-pass that smooths the pelvis height, Hz.
+PELVIS_HEIGHT_LOWPASS_HZ = 4.0
+
+
+@dataclass
+class BilateralSimulation:
+    """Everything :func:`simulate_bilateral` put in and what the seven IMUs measured.
+
+    Attributes:
+        trial: The measured seven-sensor trial (noise and gyro bias added).
+        clean: The ideal measurements.
+        angles_rad: (N, 18) true joint angles, left then right, two-leg angles.csv order, rad.
+        positions_m: (N, 15) true two-leg positions.csv columns, pelvis sensor frame, m.
+        ankle_m: ``{side: (N, 3)}`` true ankle centres in ENU, m.
+        sensor_pos_m: ``{sensor: (N, 3)}`` true sensor positions in ENU, m (two-leg names).
+        quat_wxyz: ``{sensor: (N, 4)}`` true orientations, sensor → ENU.
+        feet: ``{side: FootPlan}`` the planned foot poses and true events.
+        gait: True spatio-temporal parameters.
+        truth: The calibration.json schema for both legs plus the settings, events and gait.
+        models: ``{side: LegModel}`` the true legs (free-flyer root).
+        draw: The walk's random choices.
+        runtime_s: Wall time of the simulation, s.
+    """
+
+    trial: BilateralTrial
+    clean: BilateralTrial
+    angles_rad: FloatArray
+    positions_m: FloatArray
+    ankle_m: dict[str, FloatArray]
+    sensor_pos_m: dict[str, FloatArray]
+    quat_wxyz: dict[str, FloatArray]
+    feet: dict[str, FootPlan]
+    gait: GaitTruth
+    truth: dict[str, Any]
+    models: dict[str, LegModel]
+    draw: WalkDraw
+    runtime_s: float = 0.0
+
+
+def _legs(height_m: float, mass_kg: float, rng: np.random.Generator) -> dict[str, LegModel]:
+    """Both template legs with random placements; the right leg gets the left leg's pelvis sensor."""
+    geoms = {}
+    for side in SIDES:
+        g = LegGeometry.from_anthropometry(side, height_m, mass_kg)
+        g.sensor_placements = random_placements(g, rng)
+        geoms[side] = g
+    geoms["right"].sensor_placements["pelvis"] = geoms["left"].sensor_placements["pelvis"].copy()
+    return {side: LegModel(g, root_joint=_root_joint()) for side, g in geoms.items()}
+
+
+def _pelvis_rotation(root_q: FloatArray) -> FloatArray:
+    """(N, 3, 3) pelvis → ENU of the composite root joint (heading, then tilt, obliquity, rotation)."""
+    return (
+        rot_z(root_q[:, 3]) @ R_ENU_SEGMENT0 @ matrix_from_euler_zxy(root_q[:, 4], root_q[:, 5], root_q[:, 6])
+    )
+
+
+def _hip_offsets(legs: dict[str, LegModel]) -> dict[str, FloatArray]:
+    """Hip centre in the pelvis frame, per side, m."""
+    return {side: leg.geometry.joint_origins["hip"][:3, 3].copy() for side, leg in legs.items()}
+
+
+def _reach(leg: LegModel, knee_rad: FloatArray) -> FloatArray:
+    """Hip–ankle distance (m) at knee flexion ``knee_rad`` (rad), collinear template offsets."""
+    g = leg.geometry
+    L1 = np.linalg.norm(g.joint_origins["knee"][:3, 3])
+    L2 = np.linalg.norm(g.joint_origins["ankle"][:3, 3])
+    return np.asarray(np.sqrt(L1**2 + L2**2 + 2 * L1 * L2 * np.cos(knee_rad)))
+
+
+def _pelvis_root(
+    t: FloatArray,
+    d: WalkDraw,
+    t0: float,
+    legs: dict[str, LegModel],
+    feet: dict[str, FootPlan],
+    path: tuple[FloatArray, FloatArray, FloatArray],
+    z_stand: float,
+) -> FloatArray:
+    """(N, 7) pelvis root coordinates: path + sway, height, heading, tilt, obliquity, rotation.
+
+    The height is the standing height minus the drop, plus a 1 cm rise in each mid-stance,
+    lowered wherever a leg would need less than :data:`MIN_WALKING_KNEE_RAD` of knee
+    flexion to reach its planned ankle, then low-passed (:data:`PELVIS_HEIGHT_LOWPASS_HZ`).
+    """
+    heading, xy, ramp = path
+    T = d.stride_time_s
+    u = (t - first_contacts(d, t0)["left"]) / T  # left gait phase, 0 at its IC
+    left_dir = np.column_stack([-np.sin(heading), np.cos(heading)])
+    q = np.zeros((t.size, 7))
+    q[:, :2] = xy + (d.sway_m * np.cos(2 * np.pi * (u - MID_STANCE_FRACTION)) * ramp)[:, None] * left_dir
+    q[:, 3] = heading
+    tilt, obl, rot = np.deg2rad(d.pelvis_deg)
+    q[:, 4] = tilt * np.sin(4 * np.pi * u) * ramp
+    q[:, 5] = obl * np.sin(2 * np.pi * u + 0.4) * ramp
+    q[:, 6] = rot * np.sin(2 * np.pi * u - 0.3) * ramp
+    z_nom = z_stand - d.pelvis_drop_m * ramp + 0.01 * np.cos(4 * np.pi * (u - MID_STANCE_FRACTION)) * ramp
+    knee_ramp = smoothstep(t, t0, KNEE_RAMP_S)
+    z_soft = _highest_pelvis(q, legs, feet, 2.0 * MIN_WALKING_KNEE_RAD * knee_ramp)
+    z_hard = _highest_pelvis(q, legs, feet, MIN_WALKING_KNEE_RAD * knee_ramp)
+    b, a = butter(2, PELVIS_HEIGHT_LOWPASS_HZ / (0.5 / np.median(np.diff(t))))
+    margin = 0.0
+    for _ in range(8):  # lower the aim until the smoothed height never needs less knee flexion
+        z = z_nom
+        for _ in range(3):
+            z = filtfilt(b, a, _soft_min(z, z_soft - margin * knee_ramp, SOFT_MIN_M * ramp + 1e-12))
+        # the zero-phase filter anticipates the start: keep the standing height while standing and
+        # leave it with a high-order contact (the knee angle goes like the square root of the drop)
+        z = z_stand + (z - z_stand) * knee_ramp**2
+        if np.all(z <= z_hard + 1e-9):
+            break
+        margin += 0.003
+    q[:, 2] = np.minimum(z, z_hard)
+    return q
+
+
+def _soft_min(a: FloatArray, b: FloatArray, width: FloatArray) -> FloatArray:
+    """Smooth minimum of ``a`` and ``b`` (same units as ``width``), below both; the hard one as width → 0."""
+    m = np.minimum(a, b)
+    return np.asarray(m - width * np.log(np.exp((m - a) / width) + np.exp((m - b) / width)))
+
+
+def _highest_pelvis(
+    q: FloatArray, legs: dict[str, LegModel], feet: dict[str, FootPlan], knee_rad: FloatArray
+) -> FloatArray:
+    """(N,) highest pelvis height (m) at which both legs reach their ankles with ≥ ``knee_rad`` flexion."""
+    R = _pelvis_rotation(q)
+    z_max = np.full(q.shape[0], np.inf)
+    for side, hip in _hip_offsets(legs).items():
+        h = q[:, :3] + R @ hip  # hip centre with the pelvis at height 0 (q[:, 2] is not used)
+        h[:, 2] -= q[:, 2]
+        reach = _reach(legs[side], knee_rad)
+        r2 = np.sum((feet[side].ankle_m[:, :2] - h[:, :2]) ** 2, axis=1)
+        z_max = np.minimum(
+            z_max, feet[side].ankle_m[:, 2] + np.sqrt(np.maximum(reach**2 - r2, 0.0)) - h[:, 2]
+        )
+    return z_max
+
+
+def _standing(legs: dict[str, LegModel], heading0: float) -> tuple[float, dict[str, FloatArray]]:
+    """Pelvis height (m) and ankle centres (ENU, m) of the standing reference posture at the origin."""
+    leg = legs["left"]
+    h_a = ankle_height_m(leg.geometry.height_m)
+    ankles = {}
+    for side, lg in legs.items():
+        q = np.zeros(lg.model.nq)
+        q[3] = heading0
+        pin.forwardKinematics(lg.model, lg.data, q)
+        ankles[side] = lg.data.oMi[lg.model.getJointId(DOF_NAMES[6])].translation.copy()
+    z_stand = h_a - ankles["left"][2]
+    for a in ankles.values():
+        a[2] += z_stand
+    return z_stand, ankles
+
+
+def _foot_points(leg: LegModel) -> tuple[FloatArray, FloatArray]:
+    """Heel and metatarsal-head points in the foot segment frame (origin: ankle centre), m.
+
+    The sole is ``ankle_height_m`` below the ankle; the heel 22 % of de Leva's foot length
+    behind it, and the forefoot pivot of the last rocker (between the metatarsal heads and
+    the toe tip) 60 % ahead of it.
+    """
+    h_a = ankle_height_m(leg.geometry.height_m)
+    Lf = leg.geometry.inertias["foot"].length_m
+    return np.array([-0.22 * Lf, -h_a, 0.0]), np.array([0.60 * Lf, -h_a, 0.0])
+
+
+def _signals(leg: LegModel, t: FloatArray, Q: FloatArray) -> _SensorSignals:
+    """Rigid sensor signals (specific force, gyro, poses) of one leg for configurations ``Q``."""
+    spline = make_interp_spline(t, Q, k=5)
+    kin = MotionKinematics(Q[:, 7:], Q[:, 4:7], Q[:, 3], Q[:, :3])
+    traj = _Trajectories(t, np.ones_like(t), kin, Q, spline.derivative(1)(t), spline.derivative(2)(t))
+    sig = _rigid_signals(leg, traj, with_alpha=False)
+    for sensor in SENSORS:
+        sig.acc[sensor] -= np.einsum("nji,j->ni", sig.rot[sensor], GRAVITY_ENU)
+    return sig
+
+
+def _two_leg(per_leg: dict[str, dict[str, FloatArray]]) -> dict[str, FloatArray]:
+    """``{two-leg sensor name: array}`` from ``{side: {sensor: array}}`` (pelvis from the left)."""
+    out = {"pelvis": per_leg["left"]["pelvis"]}
+    for side in SIDES:
+        out |= {f"{side}_{s}": per_leg[side][s] for s in SENSORS[1:]}
+    return out
+
+
+def _measure(
+    t: FloatArray, clean: BilateralTrial, noise: ImuNoise, rng: np.random.Generator, with_mag: bool
+) -> tuple[BilateralTrial, dict[str, FloatArray]]:
+    """Noisy trial and ``{sensor: (3,)}`` the constant gyro bias added, rad/s."""
+    acc, gyr, mag, bias = {}, {}, {}, {}
+    assert clean.mag is not None
+    for s in clean.acc:
+        b = rng.normal(size=3)
+        bias[s] = noise.gyr_bias_rps * b / np.linalg.norm(b)
+        gyr[s] = clean.gyr[s] + bias[s] + noise.gyr_std_rps * rng.normal(size=(t.size, 3))
+        acc[s] = clean.acc[s] + noise.acc_std_mps2 * rng.normal(size=(t.size, 3))
+        mag[s] = clean.mag[s] + noise.mag_std_ut * rng.normal(size=(t.size, 3))
+    return BilateralTrial(t.copy(), acc, gyr, mag if with_mag else None), bias
+
+
+def _positions(sig: dict[str, _SensorSignals]) -> FloatArray:
+    """(N, 15) two-leg positions.csv columns in the pelvis sensor frame, m."""
+    Rp = sig["left"].rot["pelvis"]
+
+    def in_pelvis(v: FloatArray) -> FloatArray:
+        return np.einsum("nji,nj->ni", Rp, v)
+
+    p2f = {s: in_pelvis(sig[s].pos["foot"] - sig[s].pos["pelvis"]) for s in SIDES}
+    h2a = {s: in_pelvis(sig[s].ankle_c - sig[s].hip_c) for s in SIDES}
+    return np.hstack([p2f["left"], p2f["right"], h2a["left"], h2a["right"], p2f["right"] - p2f["left"]])
+
+
+def simulate_bilateral(
+    duration_s: float = 60.0,
+    seed: int = 0,
+    *,
+    rate_hz: float = 100.0,
+    noise: ImuNoise | None = None,
+    with_mag: bool = True,
+    height_m: float = 1.75,
+    mass_kg: float = 75.0,
+    still_s: float = 1.5,
+) -> BilateralSimulation:
+    """Simulate a seven-IMU walk (pelvis, both thighs, shanks and feet) with known truth.
+
+    Args:
+        duration_s: Trial length including the initial standing period, s (≥ still_s + 4).
+        seed: Seeds placements, the walk and noise.
+        rate_hz: Sampling rate, Hz.
+        noise: Sensor errors; ``None`` is the realistic default :class:`ImuNoise`.
+        with_mag: Include magnetometer columns.
+        height_m: Stature for the template (de Leva 1996), m.
+        mass_kg: Body mass, kg.
+        still_s: Standing still in the reference posture at the start, s.
+
+    Returns:
+        A :class:`BilateralSimulation`.
+
+    Raises:
+        InputError: too short a trial or a non-positive rate.
+    """
+    t_start = time.perf_counter()
+    if rate_hz <= 0 or duration_s < still_s + 4.0:
+        raise InputError(
+            f"a two-leg walk needs at least {still_s + 4.0:g} s and a positive rate; e.g. --duration 60"
+        )
+    noise = ImuNoise() if noise is None else noise
+    rng = np.random.default_rng(seed)
+    legs = _legs(height_m, mass_kg, rng)
+    d = draw_walk(rng)
+    t = np.arange(int(round(duration_s * rate_hz))) / rate_hz
+    t0 = still_s
+    z_stand, stand = _standing(legs, d.heading0_rad)
+    path = pelvis_path(t, d, t0)
+    feet = {s: plan_feet(s, d, t, t0, (path[0], path[1]), stand[s], _foot_points(legs[s])) for s in SIDES}
+    root = _pelvis_root(t, d, t0, legs, feet, path, z_stand)
+    ramp = smoothstep(t, t0, d.stride_time_s)
+    Q, sig = {}, {}
+    for s in SIDES:
+        u = (t - first_contacts(d, t0)[s]) / d.stride_time_s
+        hip_rot = np.deg2rad(d.hip_rotation_deg) * np.sin(2 * np.pi * u - 0.8) * ramp
+        angles = solve_leg(legs[s], root, hip_rot, feet[s].ankle_m, feet[s].rotation)
+        Q[s] = np.hstack([root, angles])
+        sig[s] = _signals(legs[s], t, Q[s])
+    acc = _two_leg({s: sig[s].acc for s in SIDES})
+    gyr = _two_leg({s: sig[s].gyr for s in SIDES})
+    rot = _two_leg({s: sig[s].rot for s in SIDES})
+    mag = {k: np.einsum("nji,j->ni", R, MAG_FIELD_ENU_UT) for k, R in rot.items()}
+    clean = BilateralTrial(t.copy(), acc, gyr, mag)
+    trial, bias = _measure(t, clean, noise, rng, with_mag)
+    ankle = {s: sig[s].ankle_c for s in SIDES}
+    gt = gait_truth({s: feet[s].events for s in SIDES}, ankle, t)
+    models = {s: LegModel(legs[s].geometry) for s in SIDES}
+    truth = _truth(models, d, gt, bias, seed, rate_hz, duration_s, height_m, mass_kg, noise, feet)
+    return BilateralSimulation(
+        trial=trial,
+        clean=clean,
+        angles_rad=np.hstack([Q["left"][:, 7:], Q["right"][:, 7:]]),
+        positions_m=_positions(sig),
+        ankle_m=ankle,
+        sensor_pos_m=_two_leg({s: sig[s].pos for s in SIDES}),
+        quat_wxyz={k: quat_make_continuous(quat_from_matrix(R)) for k, R in rot.items()},
+        feet=feet,
+        gait=gt,
+        truth=truth,
+        models=models,
+        draw=d,
+        runtime_s=time.perf_counter() - t_start,
+    )
+
+
+def _truth(
+    models: dict[str, LegModel],
+    d: WalkDraw,
+    gt: GaitTruth,
+    bias: dict[str, FloatArray],
+    seed: int,
+    rate_hz: float,
+    duration_s: float,
+    height_m: float,
+    mass_kg: float,
+    noise: ImuNoise,
+    feet: dict[str, FootPlan],
+) -> dict[str, Any]:
+    """The two-leg calibration.json schema of the true legs, plus settings, events and gait."""
+    legs = {}
+    for s, m in models.items():
+        cal = m.calibration_dict("truth")
+        legs[s] = {"joints": cal["joints"], "urdf": m.to_urdf_string()}
+    return {
+        "format": "lowerlimb-calibration/1",
+        "layout": "two_legs",
+        "method": "truth",
+        "legs": legs,
+        "motion": "walk",
+        "seed": seed,
+        "rate_hz": rate_hz,
+        "duration_s": duration_s,
+        "height_m": height_m,
+        "mass_kg": mass_kg,
+        "noise": {
+            "gyr_std_rps": noise.gyr_std_rps,
+            "acc_std_mps2": noise.acc_std_mps2,
+            "gyr_bias_rps": noise.gyr_bias_rps,
+            "mag_std_ut": noise.mag_std_ut,
+        },
+        "gyr_bias": {k: v.tolist() for k, v in bias.items()},
+        "events": {
+            s: {
+                "initial_contact_s": f.events.initial_contact_s.tolist(),
+                "toe_off_s": f.events.toe_off_s.tolist(),
+                "foot_flat_s": f.events.foot_flat_s.tolist(),
+            }
+            for s, f in feet.items()
+        },
+        "gait": gt.to_dict(),
+        "walk": {k: (list(v) if isinstance(v, tuple) else v) for k, v in d.__dict__.items()},
+    }

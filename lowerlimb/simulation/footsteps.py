@@ -1,0 +1,354 @@
+"""A two-leg walk planned from footprints: what each foot and the pelvis do in the world.
+
+A real walk is constrained by the ground: a foot in stance does not slide, the two
+legs move in opposite phase and both feet are down during double support. The
+one-leg motions of :mod:`lowerlimb.simulation.motions` prescribe joint angles and
+cannot honour that for two legs at once. Here the walk is planned the other way
+round, the way gait is described clinically (Perry & Burnfield 2010, *Gait
+Analysis*, ch. 2–4):
+
+1. **Timing.** Stride time ``T``; the left foot's initial contacts (IC) every ``T``,
+   the right's half a stride later; toe-off (TO) at the stance fraction ``β`` of the
+   stride, so each double support lasts ``(β − ½) T``.
+2. **Footprints.** Each stance has a footprint: the ankle centre at foot-flat and the
+   foot's heading. It lies beside the pelvis path (half the step width to its side)
+   where the pelvis will be in mid-stance, turned out by the foot's toe-out angle.
+3. **The foot in stance** rolls over the three rockers: from IC it pivots about the
+   heel point (pitch ``θ_ic`` toes up → 0, heel rocker), stays flat and still
+   (ankle rocker, the foot-stationary period), then pivots about the metatarsal
+   heads (0 → ``−θ_to``) until TO. The pivot point is fixed in the world, so the
+   contact point has zero velocity throughout stance and the whole foot is still
+   while flat.
+4. **The foot in swing** goes from its TO pose to the next IC pose along quintic
+   Hermite curves that match position, velocity and acceleration at both ends (the
+   pose is C² except at IC, foot-flat and heel-off, where the rocker pitch is only
+   C¹), plus a lift that peaks in early swing.
+5. **The pelvis** follows the path at the walking speed (ramped up from standing),
+   sways over the stance foot, tilts, drops and rotates a few degrees per stride;
+   its height is lowered where a leg could not otherwise reach its foot with the
+   knee flexed at least ``min_knee_deg`` (:func:`pelvis_height`).
+
+The leg joint angles then follow by inverse kinematics
+(:mod:`lowerlimb.simulation.leg_ik`). The trial starts with both feet flat under
+the hips in the reference posture (all joint angles zero); the right foot steps
+first.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..conventions import FloatArray, rot_z
+from .motions import smoothstep
+
+__all__ = [
+    "FootPlan",
+    "StanceEvents",
+    "WalkDraw",
+    "draw_walk",
+    "first_contacts",
+    "pelvis_path",
+    "plan_feet",
+]
+
+#: The pelvis passes over the foot's ankle this fraction of the stride after IC (Perry 2010:
+#: ankle about 0.26 m ahead of the hip at IC and 0.40 m behind at toe-off).
+MID_STANCE_FRACTION = 0.24
+
+#: 1 / max of s³(1 − s)⁶ on [0, 1] (at s = 1/3): the swing lift peaks at a third of swing,
+#: where the knee is most flexed (Perry 2010).
+_LIFT_NORM = 1.0 / ((1 / 3) ** 3 * (2 / 3) ** 6)
+
+#: Rotation of a segment frame (x anterior, y up, z right) at zero heading in ENU.
+R_ENU_SEGMENT0 = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+
+
+@dataclass(frozen=True)
+class WalkDraw:
+    """The random choices of one simulated walk (drawn by :func:`draw_walk`).
+
+    Attributes:
+        stride_time_s: Stride time T, s.
+        speed_m_s: Steady walking speed, m/s.
+        stance_fraction: Stance share β of the stride (TO at β T after IC).
+        foot_flat_fraction: Foot-flat onset after IC, fraction of T.
+        heel_off_fraction: Heel-off after IC, fraction of T.
+        ic_pitch_rad: Foot pitch at IC, toes up, rad.
+        to_pitch_rad: Foot pitch at TO, toes down (positive number), rad.
+        step_width_m: Lateral distance between the two feet's ankle centres, m.
+        toe_out_rad: ``(left, right)`` foot progression angle, outwards positive, rad.
+        clearance_m: Extra ankle height in early swing (the knee flexes to lift the foot), m.
+        pelvis_drop_m: Mean pelvis lowering while walking, m.
+        heading0_rad: Initial heading (walking direction from ENU east), rad.
+        turn_amplitude_rad: Amplitude of the slow heading oscillation, rad.
+        turn_hz: Its frequency, Hz.
+        sway_m: Lateral pelvis sway amplitude, m.
+        pelvis_deg: Pelvis tilt, obliquity and rotation amplitudes, deg.
+        hip_rotation_deg: Hip internal-rotation amplitude (both legs), deg.
+    """
+
+    stride_time_s: float
+    speed_m_s: float
+    stance_fraction: float
+    foot_flat_fraction: float
+    heel_off_fraction: float
+    ic_pitch_rad: float
+    to_pitch_rad: float
+    step_width_m: float
+    toe_out_rad: tuple[float, float]
+    clearance_m: float
+    pelvis_drop_m: float
+    heading0_rad: float
+    turn_amplitude_rad: float
+    turn_hz: float
+    sway_m: float
+    pelvis_deg: tuple[float, float, float]
+    hip_rotation_deg: float
+
+
+def draw_walk(rng: np.random.Generator) -> WalkDraw:
+    """Draw a healthy adult walk (ranges of Perry & Burnfield 2010 and Winter 2009)."""
+    u = rng.uniform
+    return WalkDraw(
+        stride_time_s=u(1.0, 1.15),
+        speed_m_s=u(1.0, 1.3),
+        stance_fraction=u(0.58, 0.62),
+        foot_flat_fraction=u(0.07, 0.10),
+        heel_off_fraction=u(0.30, 0.38),
+        ic_pitch_rad=np.deg2rad(u(14.0, 22.0)),
+        to_pitch_rad=np.deg2rad(u(45.0, 55.0)),
+        step_width_m=u(0.08, 0.14),
+        toe_out_rad=(np.deg2rad(u(2.0, 10.0)), np.deg2rad(u(2.0, 10.0))),
+        clearance_m=u(0.08, 0.11),
+        pelvis_drop_m=u(0.015, 0.03),
+        heading0_rad=u(-np.pi, np.pi),
+        turn_amplitude_rad=u(0.3, 0.8),
+        turn_hz=u(0.03, 0.06),
+        sway_m=u(0.015, 0.03),
+        pelvis_deg=(u(2.0, 4.0), u(3.0, 5.0), u(4.0, 7.0)),
+        hip_rotation_deg=u(2.0, 5.0),
+    )
+
+
+@dataclass(frozen=True)
+class StanceEvents:
+    """True gait events of one foot.
+
+    Attributes:
+        initial_contact_s: (K,) heel contacts, s.
+        toe_off_s: (M,) toe-offs, s.
+        foot_flat_s: (P, 2) start and end of each foot-flat (stationary) period, s.
+    """
+
+    initial_contact_s: FloatArray
+    toe_off_s: FloatArray
+    foot_flat_s: FloatArray
+
+
+@dataclass(frozen=True)
+class FootPlan:
+    """One foot's planned motion on the sample times.
+
+    Attributes:
+        ankle_m: (N, 3) ankle centre in ENU, m.
+        rotation: (N, 3, 3) foot segment frame → ENU.
+        events: The foot's true events.
+    """
+
+    ankle_m: FloatArray
+    rotation: FloatArray
+    events: StanceEvents
+
+
+@dataclass(frozen=True)
+class _FootGeometry:
+    """Points of the foot in its segment frame (origin at the ankle centre), m."""
+
+    heel: FloatArray
+    mtp: FloatArray
+
+
+@dataclass(frozen=True)
+class _Stance:
+    """One stance: footprint and event times (``ic`` is None for the standing start)."""
+
+    ankle: FloatArray
+    heading: float
+    ic: float | None
+    foot_flat: float
+    heel_off: float
+    toe_off: float
+
+
+def _stance_pose(st: _Stance, d: WalkDraw, foot: _FootGeometry, T: float) -> Callable[[float], tuple]:
+    """Pose ``t ↦ (ankle (3,), pitch, heading)`` of the foot over the rockers of ``st``."""
+    R_flat = rot_z(st.heading) @ R_ENU_SEGMENT0
+    heel_w = st.ankle + R_flat @ foot.heel
+    mtp_w = st.ankle + R_flat @ foot.mtp
+
+    def pose(t: float) -> tuple[FloatArray, float, float]:
+        if st.ic is not None and t < st.foot_flat:
+            v = (t - st.ic) / (st.foot_flat - st.ic)
+            p = d.ic_pitch_rad * (1.0 - v) ** 3 * (1.0 + 2.0 * v)
+        elif t <= st.heel_off:
+            p = 0.0
+        else:
+            v = (t - st.heel_off) / (st.toe_off - st.heel_off)
+            # from standing, the heel rises with zero rate, curvature and jerk (a straight knee
+            # bends like the square root of the heel's rise)
+            f = v**4 * (4.0 - 3.0 * v) if st.ic is None else v**2 * (2.0 - v)
+            p = -d.to_pitch_rad * f
+        R = R_flat @ rot_z(p)
+        ankle = heel_w - R @ foot.heel if p >= 0.0 else mtp_w - R @ foot.mtp
+        return ankle, p, st.heading
+
+    return pose
+
+
+def _state(f: Callable[[float], tuple], t: float, eps: float = 1e-4) -> tuple[FloatArray, ...]:
+    """Value, first and second derivative of ``f``'s (ankle, pitch, heading) at ``t``."""
+    vals = [np.concatenate([f(t + k * eps)[0], f(t + k * eps)[1:]]) for k in (-1, 0, 1)]
+    return vals[1], (vals[2] - vals[0]) / (2 * eps), (vals[2] - 2 * vals[1] + vals[0]) / eps**2
+
+
+def _hermite5(
+    y0: FloatArray,
+    v0: FloatArray,
+    a0: FloatArray,
+    y1: FloatArray,
+    v1: FloatArray,
+    a1: FloatArray,
+    D: float,
+    s: FloatArray,
+) -> FloatArray:
+    """Quintic Hermite (len(s), dim) on s ∈ [0, 1] over a duration ``D`` (s)."""
+    s = s[:, None]
+    h0 = 1 - 10 * s**3 + 15 * s**4 - 6 * s**5
+    h1 = s - 6 * s**3 + 8 * s**4 - 3 * s**5
+    h2 = 0.5 * s**2 - 1.5 * s**3 + 1.5 * s**4 - 0.5 * s**5
+    h3 = 0.5 * s**3 - s**4 + 0.5 * s**5
+    h4 = -4 * s**3 + 7 * s**4 - 3 * s**5
+    h5 = 10 * s**3 - 15 * s**4 + 6 * s**5
+    return np.asarray(y0 * h0 + v0 * D * h1 + a0 * D**2 * h2 + a1 * D**2 * h3 + v1 * D * h4 + y1 * h5)
+
+
+def pelvis_path(t: FloatArray, d: WalkDraw, t0: float) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Heading (N,), rad; path point (N, 2), m; and the start-up ramp (N,) of the pelvis."""
+    ramp = smoothstep(t, t0, d.stride_time_s)
+    heading = d.heading0_rad + d.turn_amplitude_rad * np.sin(2 * np.pi * d.turn_hz * (t - t0)) * ramp
+    speed = d.speed_m_s * ramp
+    dt = np.diff(t, prepend=t[0])
+    xy = np.cumsum((speed * dt)[:, None] * np.column_stack([np.cos(heading), np.sin(heading)]), axis=0)
+    return heading, xy, ramp
+
+
+def first_contacts(d: WalkDraw, t0: float) -> dict[str, float]:
+    """Time of each foot's first initial contact (s) when the right heel rises at ``t0`` (s)."""
+    T, beta = d.stride_time_s, d.stance_fraction
+    right = t0 + (beta - d.heel_off_fraction) * T + (1.0 - beta) * T
+    return {"right": right, "left": right + 0.5 * T}
+
+
+def _stances(
+    side: str, d: WalkDraw, t: FloatArray, t0: float, path: tuple[FloatArray, FloatArray], stand: FloatArray
+) -> list[_Stance]:
+    """The stances of one foot: the standing start, then one per IC until the trial ends."""
+    T, beta = d.stride_time_s, d.stance_fraction
+    heading, xy = path
+    lat = 1.0 if side == "left" else -1.0
+    first_ic = first_contacts(d, t0)[side]
+    first_to = first_ic - (1.0 - beta) * T
+    out = [
+        _Stance(
+            stand, float(heading[0]), None, -np.inf, first_to - (beta - d.heel_off_fraction) * T, first_to
+        )
+    ]
+    toe_out = d.toe_out_rad[0 if side == "left" else 1]
+    ic = first_ic
+    while ic < t[-1] + T:
+        t_mid = ic + MID_STANCE_FRACTION * T
+        psi = float(np.interp(t_mid, t, heading))
+        c = np.array([np.interp(t_mid, t, xy[:, 0]), np.interp(t_mid, t, xy[:, 1])])
+        if t_mid > t[-1]:  # extrapolate the path past the end
+            c = xy[-1] + (t_mid - t[-1]) * d.speed_m_s * np.array([np.cos(psi), np.sin(psi)])
+        left_dir = np.array([-np.sin(psi), np.cos(psi)])
+        ankle = np.array([*(c + lat * 0.5 * d.step_width_m * left_dir), stand[2]])
+        out.append(
+            _Stance(
+                ankle,
+                psi + lat * toe_out,
+                ic,
+                ic + d.foot_flat_fraction * T,
+                ic + d.heel_off_fraction * T,
+                ic + beta * T,
+            )
+        )
+        ic += T
+    return out
+
+
+def _foot_samples(
+    stances: list[_Stance], d: WalkDraw, foot: _FootGeometry, t: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Ankle (N, 3), pitch (N,) and heading (N,) of one foot over its stances and swings."""
+    T = d.stride_time_s
+    out = np.full((t.size, 5), np.nan)
+    for j, st in enumerate(stances):
+        pose = _stance_pose(st, d, foot, T)
+        start = -np.inf if st.ic is None else st.ic
+        inside = (t >= start) & (t <= st.toe_off)
+        for k in np.flatnonzero(inside):
+            a, p, h = pose(float(t[k]))
+            out[k] = [*a, p, h]
+        if j + 1 == len(stances):
+            break
+        nxt = stances[j + 1]
+        assert nxt.ic is not None
+        y0, v0, a0 = _state(pose, st.toe_off)
+        y1, v1, a1 = _state(_stance_pose(nxt, d, foot, T), nxt.ic)
+        swing = (t > st.toe_off) & (t < nxt.ic)
+        D = nxt.ic - st.toe_off
+        s = (t[swing] - st.toe_off) / D
+        y = _hermite5(y0, v0, a0, y1, v1, a1, D, s)
+        y[:, 2] += d.clearance_m * _LIFT_NORM * s**3 * (1.0 - s) ** 6
+        out[swing] = y
+    return out[:, :3], out[:, 3], out[:, 4]
+
+
+def plan_feet(
+    side: str,
+    d: WalkDraw,
+    t: FloatArray,
+    t0: float,
+    path: tuple[FloatArray, FloatArray],
+    stand_ankle: FloatArray,
+    foot: tuple[FloatArray, FloatArray],
+) -> FootPlan:
+    """One foot's planned poses and events (see the module docstring, steps 2–4).
+
+    Args:
+        side: ``"left"`` or ``"right"``.
+        d: The walk's random choices.
+        t: (N,) sample times, s.
+        t0: Time the walk starts (the right heel rises), s.
+        path: Pelvis heading (N,), rad, and path point (N, 2), m.
+        stand_ankle: (3,) the ankle centre while standing, ENU, m.
+        foot: Heel and metatarsal-head points (3,) in the foot segment frame, m.
+    """
+    geom = _FootGeometry(np.asarray(foot[0], float), np.asarray(foot[1], float))
+    stances = _stances(side, d, t, t0, path, stand_ankle)
+    ankle, pitch, heading = _foot_samples(stances, d, geom, t)
+    R = rot_z(heading) @ R_ENU_SEGMENT0 @ rot_z(pitch)
+    walking = [st for st in stances if st.ic is not None]
+    end = t[-1]
+    events = StanceEvents(
+        initial_contact_s=np.array([st.ic for st in walking if st.ic is not None and st.ic <= end]),
+        toe_off_s=np.array([st.toe_off for st in stances if st.toe_off <= end]),
+        foot_flat_s=np.array([[st.foot_flat, st.heel_off] for st in walking if st.heel_off <= end]).reshape(
+            -1, 2
+        ),
+    )
+    return FootPlan(ankle, R, events)

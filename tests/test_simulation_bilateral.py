@@ -1,0 +1,123 @@
+"""The seven-IMU walk simulator: a consistent bilateral gait with the feet on the ground.
+
+Each test checks what the simulator promises (lowerlimb/simulation/bilateral_walk.py):
+opposite phase and double support, a still foot while flat, a fixed heel and forefoot
+pivot on the rockers, the planned foot poses reproduced by the joint angles, one pelvis
+sensor, the standing reference posture, and gait parameters that agree with the walk drawn.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+import pytest
+
+from lowerlimb.conventions import GRAVITY_ENU, SIDES
+from lowerlimb.errors import InputError
+from lowerlimb.simulation import BilateralSimulation, ImuNoise, simulate_bilateral
+from lowerlimb.simulation.bilateral_walk import _foot_points
+
+
+@lru_cache(maxsize=2)
+def _walk(seed: int = 4) -> BilateralSimulation:
+    return simulate_bilateral(16.0, seed, noise=ImuNoise.none())
+
+
+def _mask(t: np.ndarray, periods: np.ndarray, trim: float) -> np.ndarray:
+    m = np.zeros(t.shape, bool)
+    for a, b in periods:
+        m |= (t > a + trim) & (t < b - trim)
+    return m
+
+
+def test_legs_move_in_opposite_phase_with_double_support():
+    sim = _walk()
+    left, right = (sim.feet[s].events for s in SIDES)
+    T = sim.draw.stride_time_s
+    # right contacts fall half a stride after the left ones
+    for ic in left.initial_contact_s[1:-1]:
+        nearest = right.initial_contact_s[np.argmin(np.abs(right.initial_contact_s - ic - T / 2))]
+        assert nearest - ic == pytest.approx(T / 2, abs=1e-9)
+    # after each contact the other foot is still down for (β − ½) T: double support
+    for ic in right.initial_contact_s[1:-1]:
+        to_other = left.toe_off_s[left.toe_off_s > ic][0]
+        assert to_other - ic == pytest.approx((sim.draw.stance_fraction - 0.5) * T, abs=1e-9)
+
+
+def test_a_flat_foot_is_still_and_its_rockers_pivot_on_fixed_points():
+    sim = _walk()
+    t = sim.clean.time_s
+    for side in SIDES:
+        ev = sim.feet[side].events
+        flat = _mask(t, ev.foot_flat_s, 0.03)
+        assert flat.sum() > 100
+        gyr = sim.clean.gyr[f"{side}_foot"][flat]
+        acc = sim.clean.acc[f"{side}_foot"][flat]
+        assert np.abs(gyr).max() < 0.01  # rad/s
+        assert np.abs(np.linalg.norm(acc, axis=1) - np.linalg.norm(GRAVITY_ENU)).max() < 0.2
+        # heel rocker: the heel point does not move between contact and foot-flat
+        heel, _ = _foot_points(sim.models[side])
+        for ic, (ff, _) in zip(ev.initial_contact_s, ev.foot_flat_s, strict=False):
+            k = (t >= ic) & (t <= ff)
+            p = sim.feet[side].ankle_m[k] + np.einsum("nij,j->ni", sim.feet[side].rotation[k], heel)
+            assert np.ptp(p, axis=0).max() < 1e-9
+
+
+def test_joint_angles_reproduce_the_planned_foot_and_the_knee_is_a_hinge():
+    sim = _walk()
+    for side in SIDES:
+        np.testing.assert_allclose(sim.ankle_m[side], sim.feet[side].ankle_m, atol=1e-7)
+    knee = sim.angles_rad[:, [3, 12]]
+    assert np.all(knee >= -1e-9)
+    np.testing.assert_array_equal(sim.angles_rad[:, [4, 5, 13, 14]], 0.0)
+
+
+def test_the_walk_starts_in_the_reference_posture_with_one_pelvis_sensor():
+    sim = _walk()
+    still = sim.clean.time_s < 1.4
+    np.testing.assert_allclose(sim.angles_rad[still], 0.0, atol=1e-5)
+    np.testing.assert_allclose(sim.clean.gyr["left_foot"][still], 0.0, atol=1e-6)
+    for s in SIDES:
+        np.testing.assert_array_equal(
+            sim.models[s].sensor_placement("pelvis").homogeneous,
+            sim.models["left"].sensor_placement("pelvis").homogeneous,
+        )
+    assert set(sim.trial.acc) == {
+        "pelvis",
+        *(f"{side}_{seg}" for side in SIDES for seg in ("thigh", "shank", "foot")),
+    }
+
+
+def test_gait_truth_agrees_with_the_walk_drawn():
+    sim = _walk()
+    d = sim.draw
+    steady = [s for s in sim.gait.strides if s.start_s > 5.0]
+    assert len(steady) >= 8
+    for s in steady:
+        assert s.stride_time_s == pytest.approx(d.stride_time_s, abs=1e-9)
+        assert s.stance_pct == pytest.approx(100 * d.stance_fraction, abs=1e-6)
+        assert s.double_support_pct == pytest.approx(200 * (d.stance_fraction - 0.5), abs=1e-6)
+        # the pelvis path bends slowly: stride length = speed × stride time within a few %
+        assert s.stride_length_m == pytest.approx(d.speed_m_s * d.stride_time_s, rel=0.05)
+    # on the slowly bending path a step's width swings by a few cm with the curvature
+    widths = [s.step_width_m for s in steady]
+    assert np.mean(widths) == pytest.approx(d.step_width_m, abs=0.015)
+    assert max(abs(w - d.step_width_m) for w in widths) < 0.05
+    assert sim.gait.cadence_steps_per_min == pytest.approx(120.0 / d.stride_time_s, rel=0.02)
+
+
+def test_signals_look_like_walking():
+    sim = _walk()
+    c = sim.clean
+    body = slice(0, -30)  # the spline's last samples are extrapolated
+    for name in c.acc:
+        peak = np.linalg.norm(c.acc[name][body], axis=1).max()
+        assert 12.0 < peak < 90.0, name
+    knee = np.rad2deg(sim.angles_rad[:, 3])
+    assert 50.0 < knee.max() < 85.0
+
+
+def test_too_short_a_two_leg_walk_is_refused():
+    with pytest.raises(InputError, match="at least"):
+        simulate_bilateral(3.0, 0)
