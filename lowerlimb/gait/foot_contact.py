@@ -6,16 +6,17 @@ at the heel then rotates the foot toes-down about it (the heel rocker, Perry &
 Burnfield, *Gait Analysis*, 2nd ed., 2010, ch. 4) until foot flat. Heel contact
 is therefore the instant the foot's sagittal angular velocity ω_f changes sign
 from swing (positive) to heel rocker (negative): the foot's largest toes-up
-pitch. This is the foot-gyro zero-crossing definition of heel strike used with
-foot-mounted gyroscopes (e.g. Sabatini et al. 2005, "Assessment of walking
-features from foot inertial sensing", IEEE TBME 52(3); Jasiewicz et al. 2006,
-"Gait event detection using linear accelerometers or angular velocity
-transducers in able-bodied and spinal-cord injured individuals", Gait Posture
-24(4)). The shank's local minimum after mid-swing (Aminian et al. 2002,
-Salarian et al. 2004) falls later, at the end of the heel rocker, where the
-foot is flat and the shank stops rotating backwards (Catalfamo et al. 2010,
-Sensors 10, and Bötzel et al. 2016, J. Biomech. 49, report it tens of ms after
-pressure-insole contact on some subjects).
+pitch. Foot-gyro detectors place heel strike at this sign change or at the
+heel-rocker peak just after it (Jasiewicz et al. 2006, "Gait event detection
+using linear accelerometers or angular velocity transducers in able-bodied and
+spinal-cord injured individuals", Gait Posture 24(4); Mansour et al. 2015
+take the peak); the sign change is the one tied to contact
+itself, the peak is later by the heel rocker's rise time. The shank's local
+minimum after mid-swing (Aminian et al. 2002, Salarian et al. 2004) falls at
+the end of the heel rocker too: on the real walk of ``gait/`` it coincided with
+the heel marker coming to rest, ~60 ms after Zeni et al. 2008's marker contact,
+while this zero crossing was 14-15 ms (median; bias +15/+19 ms) after it
+(benchmarks/gait_events.py).
 
 Choices the papers leave open, stated here:
 
