@@ -29,11 +29,13 @@ def test_real_walk_events_stationary_and_strides():
         ic = res["events"][f"{side}_initial_contact"]["straight"]
         to = res["events"][f"{side}_toe_off"]["straight"]
         assert ic["n"] >= 4 and to["n"] >= 4
-        # vs Zeni marker events (measured ~60 ms IC lag, ~40 ms TO lead: the kinematic events differ)
-        assert ic["median_abs_ms"] < 150 and ic["worst_abs_ms"] < 200
+        # IC from the foot's heel-rocker onset vs Zeni contacts: issue 11 goal (measured 14-15 ms
+        # median, 19-37 ms worst; the shank minimum used before was ~60 ms late)
+        assert ic["median_abs_ms"] <= 20 and ic["worst_abs_ms"] <= 40
         assert to["median_abs_ms"] < 100 and to["worst_abs_ms"] < 150
-        # vs the heel marker coming to rest (measured median 5-12 ms)
-        assert res["events"][f"{side}_initial_contact_vs_heel_stop"]["straight"]["median_abs_ms"] < 30
+        # IC precedes the heel marker coming to rest (end of the heel rocker, measured ~-50 ms)
+        hs = res["events"][f"{side}_initial_contact_vs_heel_stop"]["straight"]
+        assert hs["bias_ms"] < -20
         st = res["stationary"][side]
         assert st["agreement_pct"] > 80.0  # measured ~92-94 %
         assert abs(st["onset_median_ms"]) < 150 and abs(st["offset_median_ms"]) < 100

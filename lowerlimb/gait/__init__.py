@@ -1,8 +1,8 @@
 """Gait events, foot trajectories and spatio-temporal parameters from leg IMUs (docs/formats.md, "Two legs").
 
-Stages: :func:`detect_gait_events` (shank gyro → initial contact / toe-off; foot IMU →
-stationary periods) → :func:`integrate_foot` (strapdown + zero-velocity updates) →
-:func:`compute_gait_parameters` → :func:`write_events_csv`, :func:`write_gait_json`.
+Stages: :func:`detect_gait_events` (foot gyro → initial contact, shank gyro without one;
+shank gyro → toe-off; foot IMU → stationary periods) → :func:`integrate_foot` (strapdown +
+zero-velocity updates) → :func:`compute_gait_parameters` → :func:`write_events_csv`, :func:`write_gait_json`.
 Every threshold is in :class:`GaitParams`.
 """
 

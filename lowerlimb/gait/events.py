@@ -1,4 +1,9 @@
-"""Initial contact and toe-off from the shank gyro; foot-stationary periods from the foot IMU.
+"""Initial contact and toe-off from the shank (and foot) gyro; foot-stationary periods from the foot IMU.
+
+With a foot IMU, initial contact (IC) is the onset of the foot's heel rocker, the
+swing-to-stance zero crossing of the foot's sagittal rate
+(:mod:`lowerlimb.gait.foot_contact`); without one, IC is the shank minimum below.
+Toe-off (TO) and mid-swing always come from the shank.
 
 Shank method of Salarian et al. 2004 ("Gait assessment in Parkinson's disease:
 toward an ambulatory system for long-term monitoring", IEEE TBME 51(8)),
@@ -7,7 +12,7 @@ velocity ω (mid-swing positive, :func:`~lowerlimb.gait.sagittal.sagittal_rate`)
 
 1. mid-swing (MS) = peaks of the strongly low-passed ω above
    :attr:`GaitParams.midswing_min_rps`, at least :attr:`GaitParams.min_stride_time_s` apart;
-2. initial contact (IC) = the first local minimum of ω (low-passed at
+2. initial contact (IC, shank fallback) = the first local minimum of ω (low-passed at
    :attr:`GaitParams.sagittal_lowpass_hz`) after MS, within
    :attr:`GaitParams.ic_search_s` and before the next MS;
 3. toe-off (TO) = the deepest local minimum of ω before MS, within
@@ -29,6 +34,7 @@ from scipy.signal import find_peaks
 from lowerlimb.conventions import FloatArray
 from lowerlimb.gait._signal import as_signal, lowpass
 from lowerlimb.gait.errors import NoGaitCyclesError
+from lowerlimb.gait.foot_contact import foot_sagittal_rate, heel_rocker_onsets
 from lowerlimb.gait.params import GaitParams, samples
 from lowerlimb.gait.sagittal import SagittalRate, sagittal_rate
 from lowerlimb.gait.stationary import StationaryPeriods, detect_stationary
@@ -48,6 +54,10 @@ class SideEvents:
         sagittal: The shank's sagittal rate and axis.
         stationary: Foot-stationary periods (``None`` without a foot IMU).
         start_time_s: Time of sample 0, s.
+        foot_sagittal: The foot's sagittal rate, signed like the shank's (``None``
+            without a foot IMU).
+        ic_method: ``"foot_heel_rocker"`` (foot gyro zero crossing) or
+            ``"shank_minimum"`` (Aminian/Salarian fallback without a foot IMU).
     """
 
     side: str
@@ -57,6 +67,8 @@ class SideEvents:
     sagittal: SagittalRate
     stationary: StationaryPeriods | None = None
     start_time_s: float = 0.0
+    foot_sagittal: SagittalRate | None = None
+    ic_method: str = "shank_minimum"
 
 
 @dataclass(frozen=True)
@@ -121,7 +133,9 @@ def detect_side_events(
         start_time_s: Time of sample 0, s.
 
     Returns:
-        The leg's events; times are ``start_time_s + index / rate_hz``.
+        The leg's events; times are ``start_time_s + index / rate_hz``. Initial
+        contacts come from the foot gyro when ``foot_gyr`` is given
+        (:func:`~lowerlimb.gait.foot_contact.heel_rocker_onsets`), else from the shank.
 
     Raises:
         GaitSignalError: A signal is not a finite (N, 3) array of the shank's length.
@@ -147,11 +161,15 @@ def detect_side_events(
         cand = _local_minima(om, max(m - n_to, prv + 1, m - half), m, -p.event_min_rps)
         if cand.size:
             to.append(_refine(om, int(cand[np.argmin(om[cand])])))
-    stationary = None
+    stationary = foot_sag = None
+    ic_method = "shank_minimum"
     if foot_gyr is not None:
         fg = as_signal(foot_gyr, "foot_gyr", w.shape[0])
         fa = as_signal(foot_acc if foot_acc is not None else np.zeros((0, 3)), "foot_acc", w.shape[0])
         stationary = detect_stationary(fg, fa, rate_hz, p)
+        foot_sag = foot_sagittal_rate(fg, sag.omega_rps, rate_hz, p)
+        ic = heel_rocker_onsets(foot_sag.omega_rps, ms, rate_hz, p)
+        ic_method = "foot_heel_rocker"
     return SideEvents(
         side=side,
         initial_contact_s=start_time_s + np.asarray(ic, dtype=float) / rate_hz,
@@ -160,6 +178,8 @@ def detect_side_events(
         sagittal=sag,
         stationary=stationary,
         start_time_s=start_time_s,
+        foot_sagittal=foot_sag,
+        ic_method=ic_method,
     )
 
 

@@ -34,7 +34,12 @@ class GaitParams:
             following mid-swing), s.
         to_search_s: Toe-off is the deepest local minimum within this time before the
             mid-swing peak (Salarian 2004: the minimum preceding mid-swing), s.
-        event_min_rps: An event minimum must lie below ``-event_min_rps``, rad/s.
+        event_min_rps: An event minimum must lie below ``-event_min_rps``, rad/s; with a
+            foot IMU, the foot's heel rocker after an initial contact must reach it too.
+        heel_rocker_s: With a foot IMU, initial contact is the swing-to-heel-rocker zero
+            crossing of the foot's sagittal rate (:mod:`lowerlimb.gait.foot_contact`); the
+            rate must fall below ``-event_min_rps`` within this time after it (the heel
+            rocker lasts about 10 % of the cycle, ~0.1 s; Perry & Burnfield 2010), s.
         walking_gyro_rps: A sample counts as walking for the principal-axis fit when
             the smoothed shank gyro norm exceeds this, rad/s.
         shoe_window_s: Window of the SHOE detector (Skog et al. 2010, eq. 8), s.
@@ -63,6 +68,7 @@ class GaitParams:
     ic_search_s: float = 0.6
     to_search_s: float = 0.6
     event_min_rps: float = np.deg2rad(10.0)
+    heel_rocker_s: float = 0.15
     walking_gyro_rps: float = 1.0
     shoe_window_s: float = 0.05
     shoe_sigma_acc_mps2: float = 0.5
