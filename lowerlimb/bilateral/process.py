@@ -10,6 +10,11 @@ legs share:
   in the two legs; every segment of both legs is therefore in one earth frame, and
   ``left_foot_to_right_foot`` (the difference of the two legs' forward kinematics in the
   pelvis sensor frame) is consistent;
+- **one pelvis** (:mod:`lowerlimb.bilateral.pelvis`): after the single-leg runs, one
+  pelvis segment frame (up from standing gravity, right from the hip line and both knee
+  axes) and the two hip centres estimated jointly (mirror symmetry, de Leva's spacing,
+  each hip's covariance); both legs' headings, frames, angles and forward kinematics are
+  recomputed with them (``one_pelvis=False`` keeps each leg's own);
 - **the two hips** (:mod:`lowerlimb.bilateral.hips`): their distance against de Leva's
   hip spacing and their sides, reported in ``calibration.json`` and warned about;
 - **gait** (:mod:`lowerlimb.bilateral.gait`): events per foot and spatio-temporal
