@@ -96,6 +96,9 @@ def score_legs(result: Any, vicon: dict) -> dict[str, dict[str, float]]:
         knee = np.degrees(result.legs[side].angles_rad[:, names.index("knee_flexion")])
         ref = vicon[f"{P}_Femur_{P}_Tibia"][0].astype(float)
         o, r = knee - np.nanmean(knee[STAND]), ref - np.nanmean(ref[STAND])
+        hip = np.degrees(result.legs[side].angles_rad[:, names.index("hip_flexion")])
+        href = -vicon[f"Root_{P}_Femur"][:, 0].astype(float)  # as benchmarks/real_gait.py
+        ho, hr = hip - np.nanmean(hip[STAND]), href - np.nanmean(href[STAND])
         out[side] = {
             "thigh_mm": 1000 * thigh,
             "thigh_vicon_mm": v_thigh,
@@ -104,6 +107,7 @@ def score_legs(result: Any, vicon: dict) -> dict[str, dict[str, float]]:
             "shank_vicon_mm": v_shank,
             "shank_err_mm": 1000 * shank - v_shank,
             "knee_flexion_rmse_deg": float(np.sqrt(np.nanmean((o[WALK] - r[WALK]) ** 2))),
+            "hip_flexion_rmse_deg": float(np.sqrt(np.nanmean((ho[WALK] - hr[WALK]) ** 2))),
         }
     return out
 
@@ -166,6 +170,13 @@ def run(data: Path) -> dict[str, Any]:
         "plausible": h.plausible,
         "pelvis_axes_angle_deg": h.pelvis_axes_angle_deg,
     }
+    if result.pelvis is not None:
+        pv = result.pelvis
+        res["hips"] |= {
+            "single_leg_spacing_mm": 1000 * pv.single_leg_spacing_m,
+            "legs_own_axes_angle_deg": pv.legs_axes_angle_deg,
+            "hip_line_weight": pv.hip_line_weight,
+        }
     res["anchor"] = res["gait_json"].get("anchor")
     res["relative_heading_deg"] = (
         result.gait.parameters.relative_heading_deg if result.gait.parameters else None
@@ -185,14 +196,14 @@ def markdown(res: dict[str, Any]) -> str:
         f"{g['step_width_mm']:.0f} mm of the Vicon ankle centres. "
         "Knee flexion zeroed on frames 200–1000, RMSE over 1120–2074.",
         "",
-        "| side | thigh mm (Vicon, err) | shank mm (Vicon, err) | knee flexion RMSE ° |",
-        "|---|---|---|---|",
+        "| side | thigh mm (Vicon, err) | shank mm (Vicon, err) | knee flexion RMSE ° | hip flexion RMSE ° |",
+        "|---|---|---|---|---|",
     ]
     for side, s in res["legs"].items():
         L.append(
             f"| {side} | {s['thigh_mm']:.0f} ({s['thigh_vicon_mm']:.0f}, {s['thigh_err_mm']:+.0f}) | "
             f"{s['shank_mm']:.0f} ({s['shank_vicon_mm']:.0f}, {s['shank_err_mm']:+.0f}) | "
-            f"{s['knee_flexion_rmse_deg']:.1f} |"
+            f"{s['knee_flexion_rmse_deg']:.1f} | {s['hip_flexion_rmse_deg']:.1f} |"
         )
     L += ["", "| quantity (straight strides) | n | median abs | worst abs | bias |", "|---|---|---|---|---|"]
     for key, unit in (("stride_length_err_pct", "%"), ("step_width_err_mm", "mm")):
@@ -210,7 +221,15 @@ def markdown(res: dict[str, Any]) -> str:
         "",
         f"Hip spacing: {h['spacing_mm']:.0f} mm calibrated, {h['spacing_vicon_mm']:.0f} mm Vicon "
         f"({h['spacing_err_mm']:+.0f} mm), de Leva {h['de_leva_mm']:.0f} mm; plausible: {h['plausible']}; "
-        f"angle between the two legs' pelvis medio-lateral axes {h['pelvis_axes_angle_deg']:.0f}°.",
+        f"angle between the two legs' pelvis medio-lateral axes {h['pelvis_axes_angle_deg']:.0f}°"
+        + (
+            f" (one shared pelvis frame; each leg's own, from its knee axis: "
+            f"{h['legs_own_axes_angle_deg']:.0f}° apart; single-leg hip centres "
+            f"{h['single_leg_spacing_mm']:.0f} mm apart; hip-line share of the right axis "
+            f"{h['hip_line_weight']:.2f})."
+            if "legs_own_axes_angle_deg" in h
+            else "."
+        ),
         f"Chain anchor (right − left ankle centre at {a.get('time_s', float('nan')):.2f} s): forward "
         f"{a.get('forward_m', float('nan')):+.3f} m, left {a.get('left_m', float('nan')):+.3f} m; "
         f"right-to-left heading alignment of the foot trajectories {res['relative_heading_deg']:.1f}°. "

@@ -6,8 +6,9 @@ between them near the hip spacing of de Leva 1996 for the subject's stature
 (:func:`lowerlimb.model.anthropometry.hip_spacing_m`), and the right hip to the
 right of the left one along the pelvis's medio-lateral axis. That axis is the
 pelvis segment frame's z (ISB: to the right) in the pelvis sensor, averaged over
-the two legs (each leg builds the pelvis frame from its own thigh at the standing
-reference; the angle between the two is reported as well).
+the two legs (with one pelvis, :mod:`lowerlimb.bilateral.pelvis`, both are the shared
+frame and the angle is 0; with ``one_pelvis=False`` each leg builds the pelvis frame from
+its own thigh at the standing reference and the angle between the two is reported).
 """
 
 from __future__ import annotations

@@ -10,6 +10,11 @@ legs share:
   in the two legs; every segment of both legs is therefore in one earth frame, and
   ``left_foot_to_right_foot`` (the difference of the two legs' forward kinematics in the
   pelvis sensor frame) is consistent;
+- **one pelvis** (:mod:`lowerlimb.bilateral.pelvis`): after the single-leg runs, one
+  pelvis segment frame (up from standing gravity, right from the hip line and both knee
+  axes) and the two hip centres estimated jointly (mirror symmetry, de Leva's spacing,
+  each hip's covariance); both legs' headings, frames, angles and forward kinematics are
+  recomputed with them (``one_pelvis=False`` keeps each leg's own);
 - **the two hips** (:mod:`lowerlimb.bilateral.hips`): their distance against de Leva's
   hip spacing and their sides, reported in ``calibration.json`` and warned about;
 - **gait** (:mod:`lowerlimb.bilateral.gait`): events per foot and spatio-temporal
@@ -18,8 +23,9 @@ legs share:
 
 from __future__ import annotations
 
+import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -31,9 +37,11 @@ from ..errors import InputError
 from ..gait import GaitParams
 from ..io.bilateral_trial import BilateralTrial, with_file_names
 from ..orientation.magnetic import check_magnetic_field
-from ..pipeline import MAG_FILTERS, MagneticDisturbanceWarning, TrialResult, process_trial
+from ..pipeline import MAG_FILTERS, MagneticDisturbanceWarning, TrialResult, build_model, process_trial
+from ..segments.tracking import track_segments
 from .gait import BilateralGait, analyse_gait
 from .hips import HipCheck, HipParams, HipSpacingWarning, check_hips
+from .pelvis import PelvisParams, SharedPelvis, shared_pelvis
 
 __all__ = ["BilateralResult", "BilateralSideError", "process_bilateral_trial"]
 
@@ -63,6 +71,8 @@ class BilateralResult:
         hips: the two hip centres checked together.
         gait: events, foot trajectories and gait parameters.
         timings_s: wall time of each stage, s.
+        pelvis: the one pelvis of both legs (frame and joint hip centres), or ``None``
+            when the legs kept their own (``shared_pelvis=False``).
     """
 
     trial: BilateralTrial
@@ -70,6 +80,7 @@ class BilateralResult:
     hips: HipCheck
     gait: BilateralGait
     timings_s: dict[str, float] = field(default_factory=dict)
+    pelvis: SharedPelvis | None = None
 
     @property
     def angles_rad(self) -> FloatArray:
@@ -108,6 +119,7 @@ class BilateralResult:
             "legs": legs,
             "runtime_s": self.runtime_s,
             "hips": self.hips.to_dict(),
+            "pelvis": None if self.pelvis is None else self.pelvis.to_dict(),
             "shared_pelvis_heading": bool(
                 np.array_equal(
                     left.motion.sensor_quat_wxyz["pelvis"],
@@ -160,6 +172,50 @@ def _process_leg(
         raise InputError(f"{side} leg (pelvis and {side}_*): {e}") from None
 
 
+def _one_pelvis(
+    legs: dict[str, TrialResult], *, height_m: float, mass_kg: float, params: PelvisParams | None
+) -> tuple[dict[str, TrialResult], SharedPelvis]:
+    """Both legs re-tracked with one pelvis frame and the jointly estimated hip centres.
+
+    The joint calibrations are kept except the hip centre in the pelvis sensor; the
+    orientation filters are not re-run. Each leg's headings, segment frames, angles and
+    forward kinematics are recomputed (:func:`~lowerlimb.segments.tracking.track_segments`
+    with the shared pelvis frame, :func:`~lowerlimb.pipeline.build_model`).
+    """
+    trial = legs["left"].trial
+    reference = trial.reference_samples(trial.still_period())
+    pelvis = shared_pelvis(
+        {s: r.calibration.hip.center_in_parent_sensor for s, r in legs.items()},
+        {s: r.calibration.hip.center_std_in_parent_sensor for s, r in legs.items()},
+        {s: r.motion.frames.R_sensor_segment["pelvis"][:, 2] for s, r in legs.items()},
+        trial.acc["pelvis"][reference].mean(axis=0),
+        height_m=height_m,
+        params=params,
+    )
+    out = {}
+    for side, r in legs.items():
+        cal = r.calibration
+        cal = replace(
+            cal, hip=replace(cal.hip, center_in_parent_sensor=pelvis.hips.center_in_pelvis_sensor_m[side])
+        )
+        t = r.trial
+        gyr = {s: t.gyr[s] - cal.gyro_bias.get(s, np.zeros(3)) for s in t.gyr}
+        motion = track_segments(
+            r.quat_wxyz,
+            t.acc,
+            gyr,
+            cal,
+            rate_hz=t.rate_hz,
+            reference=t.reference_samples(t.still_period()),
+            side=t.side,
+            shared_heading=r.used_mag,
+            R_sensor_pelvis=pelvis.R_sensor_pelvis,
+        )
+        model, positions, s2j = build_model(cal, motion, height_m=height_m, mass_kg=mass_kg)
+        out[side] = replace(r, calibration=cal, motion=motion, model=model, positions_m=positions, s2j=s2j)
+    return out, pelvis
+
+
 def process_bilateral_trial(
     trial: BilateralTrial,
     *,
@@ -173,6 +229,8 @@ def process_bilateral_trial(
     side_check: bool = True,
     hip_params: HipParams | None = None,
     gait_params: GaitParams | None = None,
+    one_pelvis: bool = True,
+    pelvis_params: PelvisParams | None = None,
 ) -> BilateralResult:
     """Calibrate both legs of a seven-IMU trial; angles, positions, hips and gait.
 
@@ -188,6 +246,10 @@ def process_bilateral_trial(
         side_check: refuse a leg whose calibrated hip lies on the other side of the pelvis sensor.
         hip_params: thresholds of the two-hip check.
         gait_params: thresholds of the gait stages.
+        one_pelvis: give both legs one pelvis frame and the jointly estimated hip centres
+            (:mod:`lowerlimb.bilateral.pelvis`); False keeps each leg's own (the single-leg
+            results side by side).
+        pelvis_params: uncertainties of the shared pelvis.
 
     Raises:
         InputError: swapped columns (``BilateralSideError``, ``SensorOrderError`` with the
@@ -222,6 +284,11 @@ def process_bilateral_trial(
     for side, r in legs.items():
         for k, v in r.timings_s.items():
             timings[f"{side}: {k}"] = v
+    pelvis = None
+    if one_pelvis:
+        t0 = time.perf_counter()
+        legs, pelvis = _one_pelvis(legs, height_m=height_m, mass_kg=mass_kg, params=pelvis_params)
+        timings["one pelvis"] = time.perf_counter() - t0
     hips = check_hips(
         legs["left"].calibration,
         legs["right"].calibration,
@@ -237,4 +304,4 @@ def process_bilateral_trial(
             stacklevel=2,
         )
     gait = analyse_gait(legs, gait_params)
-    return BilateralResult(trial, legs, hips, gait, timings)
+    return BilateralResult(trial, legs, hips, gait, timings, pelvis)

@@ -90,6 +90,7 @@ def segment_frames(
     calibration: LegCalibration,
     reference_quat_wxyz: dict[str, FloatArray],
     side: str,
+    R_sensor_pelvis: FloatArray | None = None,
 ) -> SegmentFrames:
     """Segment frames of the four segments.
 
@@ -98,6 +99,10 @@ def segment_frames(
         reference_quat_wxyz: ``{sensor: (4,)}`` sensor orientations (sensor → earth)
             averaged over the standing reference posture.
         side: ``"left"`` or ``"right"``.
+        R_sensor_pelvis: (3, 3) a pelvis segment frame given from outside (columns x
+            anterior, y up, z right, in the pelvis sensor frame), e.g. the one pelvis of
+            both legs (:mod:`lowerlimb.bilateral.pelvis`); the hip angles are then not zero
+            at the reference. Default: the thigh frame at the reference (one leg).
     """
     hip, knee = calibration.hip, calibration.knee
     R_thigh = thigh_frame_in_sensor(
@@ -107,6 +112,8 @@ def segment_frames(
     out = {"thigh": R_thigh}
     for seg in ("pelvis", "shank", "foot"):
         out[seg] = quat_to_matrix(reference_quat_wxyz[seg]).T @ R_earth_thigh_ref
+    if R_sensor_pelvis is not None:
+        out["pelvis"] = np.asarray(R_sensor_pelvis, dtype=float)
     return SegmentFrames(out, side)
 
 

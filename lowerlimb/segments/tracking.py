@@ -62,6 +62,7 @@ def track_segments(
     side: str,
     shared_heading: bool = False,
     range_of_motion_prior: bool = True,
+    R_sensor_pelvis: FloatArray | None = None,
 ) -> SegmentMotion:
     """Segment orientations and ISB angles from per-sensor orientations.
 
@@ -78,10 +79,14 @@ def track_segments(
         shared_heading: True when the orientations share one heading already
             (9-axis filters): adds :data:`MAG_HEADING_WEIGHT`.
         range_of_motion_prior: run the second, prior-regularised heading pass.
+        R_sensor_pelvis: (3, 3) pelvis segment frame in the pelvis sensor given from
+            outside (two legs: one pelvis for both); default: from this leg's thigh.
     """
     w_common = MAG_HEADING_WEIGHT if shared_heading else 0.0
     qc, corr = correct_headings(quat_wxyz, acc, gyr, calibration, rate_hz, common_heading_weight=w_common)
-    frames = segment_frames(calibration, {s: mean_quaternion(qc[s][reference]) for s in SENSORS}, side)
+    frames = segment_frames(
+        calibration, {s: mean_quaternion(qc[s][reference]) for s in SENSORS}, side, R_sensor_pelvis
+    )
     if range_of_motion_prior:
         qc, corr = correct_headings(
             quat_wxyz,
@@ -92,7 +97,9 @@ def track_segments(
             R_sensor_segment=frames.R_sensor_segment,
             common_heading_weight=w_common,
         )
-        frames = segment_frames(calibration, {s: mean_quaternion(qc[s][reference]) for s in SENSORS}, side)
+        frames = segment_frames(
+            calibration, {s: mean_quaternion(qc[s][reference]) for s in SENSORS}, side, R_sensor_pelvis
+        )
     seg = frames.segment_quaternions(qc)
     angles = compute_joint_angles(seg, side)
     return SegmentMotion(frames, qc, seg, np.asarray(angles), corr)
