@@ -85,16 +85,18 @@ def test_shared_frame_cancels_mirrored_knee_axis_errors():
     assert sp.to_dict()["hip_spacing_m"] == sp.hips.spacing_m
 
 
-def test_two_simulated_legs_share_one_pelvis():
+def test_two_simulated_legs_share_the_hips_and_keep_zero_at_standing():
     sim = simulate_two_legs()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         res = process_bilateral_trial(sim.trial)
         own = process_bilateral_trial(sim.trial, one_pelvis=False)
     assert res.pelvis is not None and own.pelvis is None
-    frames = [r.motion.frames.R_sensor_segment["pelvis"] for r in res.legs.values()]
-    np.testing.assert_allclose(frames[0], frames[1])
-    np.testing.assert_allclose(frames[0], res.pelvis.R_sensor_pelvis)
+    # the joint hip centres feed the positions; each leg's angles stay zero at the standing
+    # reference (DESIGN.md conventions), so each keeps its own pelvis segment frame
+    still = sim.trial.time_s < 1.0
+    for s in SIDES:
+        assert np.abs(np.rad2deg(res.legs[s].angles_rad[still, :3])).max() < 1.0
     truth = {s: LegCalibration.from_dict(sim.sims[s].truth) for s in SIDES}
     c_true = {s: np.asarray(truth[s].hip.center_in_parent_sensor) for s in SIDES}
     spacing_true = float(np.linalg.norm(c_true["right"] - c_true["left"]))

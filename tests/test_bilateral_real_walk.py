@@ -40,5 +40,4 @@ def test_real_walk_two_legs():
     assert res["step_width_err_mm"]["n"] >= 3 and res["step_width_err_mm"]["median_abs"] < 40
     # one pelvis: measured +2 mm (the single-leg centres +104 mm: poorly determined vertically)
     assert abs(res["hips"]["spacing_err_mm"]) < 40
-    assert res["hips"]["pelvis_axes_angle_deg"] < 1e-6  # both legs use the one frame
     assert res["hips"]["single_leg_spacing_mm"] > res["hips"]["spacing_mm"]

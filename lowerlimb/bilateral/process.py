@@ -10,11 +10,13 @@ legs share:
   in the two legs; every segment of both legs is therefore in one earth frame, and
   ``left_foot_to_right_foot`` (the difference of the two legs' forward kinematics in the
   pelvis sensor frame) is consistent;
-- **one pelvis** (:mod:`lowerlimb.bilateral.pelvis`): after the single-leg runs, one
-  pelvis segment frame (up from standing gravity, right from the hip line and both knee
-  axes) and the two hip centres estimated jointly (mirror symmetry, de Leva's spacing,
-  each hip's covariance); both legs' headings, frames, angles and forward kinematics are
-  recomputed with them (``one_pelvis=False`` keeps each leg's own);
+- **one pelvis** (:mod:`lowerlimb.bilateral.pelvis`): after the single-leg runs, the two
+  hip centres are estimated jointly (mirror symmetry about one pelvis frame, de Leva's
+  spacing, each hip's covariance); both legs' headings, frames, angles and forward
+  kinematics are recomputed with them (``one_pelvis=False`` keeps each leg's own). Each
+  leg's angles keep its own pelvis segment frame, so they are zero at the standing
+  reference as for one leg (a shared frame for the angles made the simulated hip angles
+  worse: rotation 10–12° RMSE against 2–3°); the shared frame is reported;
 - **the two hips** (:mod:`lowerlimb.bilateral.hips`): their distance against de Leva's
   hip spacing and their sides, reported in ``calibration.json`` and warned about;
 - **gait** (:mod:`lowerlimb.bilateral.gait`): events per foot and spatio-temporal
@@ -175,12 +177,12 @@ def _process_leg(
 def _one_pelvis(
     legs: dict[str, TrialResult], *, height_m: float, mass_kg: float, params: PelvisParams | None
 ) -> tuple[dict[str, TrialResult], SharedPelvis]:
-    """Both legs re-tracked with one pelvis frame and the jointly estimated hip centres.
+    """Both legs re-tracked with the jointly estimated hip centres (one pelvis).
 
     The joint calibrations are kept except the hip centre in the pelvis sensor; the
     orientation filters are not re-run. Each leg's headings, segment frames, angles and
-    forward kinematics are recomputed (:func:`~lowerlimb.segments.tracking.track_segments`
-    with the shared pelvis frame, :func:`~lowerlimb.pipeline.build_model`).
+    forward kinematics are recomputed (:func:`~lowerlimb.segments.tracking.track_segments`,
+    :func:`~lowerlimb.pipeline.build_model`).
     """
     trial = legs["left"].trial
     reference = trial.reference_samples(trial.still_period())
@@ -209,7 +211,6 @@ def _one_pelvis(
             reference=t.reference_samples(t.still_period()),
             side=t.side,
             shared_heading=r.used_mag,
-            R_sensor_pelvis=pelvis.R_sensor_pelvis,
         )
         model, positions, s2j = build_model(cal, motion, height_m=height_m, mass_kg=mass_kg)
         out[side] = replace(r, calibration=cal, motion=motion, model=model, positions_m=positions, s2j=s2j)
@@ -246,7 +247,7 @@ def process_bilateral_trial(
         side_check: refuse a leg whose calibrated hip lies on the other side of the pelvis sensor.
         hip_params: thresholds of the two-hip check.
         gait_params: thresholds of the gait stages.
-        one_pelvis: give both legs one pelvis frame and the jointly estimated hip centres
+        one_pelvis: give both legs the jointly estimated hip centres of one pelvis
             (:mod:`lowerlimb.bilateral.pelvis`); False keeps each leg's own (the single-leg
             results side by side).
         pelvis_params: uncertainties of the shared pelvis.
