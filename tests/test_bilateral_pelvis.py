@@ -93,7 +93,7 @@ def test_two_simulated_legs_share_the_hips_and_keep_zero_at_standing():
         own = process_bilateral_trial(sim.trial, one_pelvis=False)
     assert res.pelvis is not None and own.pelvis is None
     # the joint hip centres feed the positions; each leg's angles stay zero at the standing
-    # reference (DESIGN.md conventions), so each keeps its own pelvis segment frame
+    # reference (docs/conventions.md), so each keeps its own pelvis segment frame
     still = sim.trial.time_s < 1.0
     for s in SIDES:
         assert np.abs(np.rad2deg(res.legs[s].angles_rad[still, :3])).max() < 1.0

@@ -49,8 +49,10 @@ from ..constraints.angular_acceleration import angular_acceleration
 from ..conventions import JOINT_SENSORS, FloatArray, quat_multiply, quat_rotate
 
 if TYPE_CHECKING:
-    from ..calibration import LegCalibration
+    from ..calibration import ExcitationReport, LegCalibration
 
+#: Joint-centre standard deviation at which a spherical joint's heading term counts half, m.
+CENTRE_STD_REF_M = 0.015
 #: Share of the whole-trial mean blended into each local (kernel-mean) estimate.
 GLOBAL_PRIOR_WEIGHT = 0.1
 #: Low-pass cut-off of the joint accelerations before they are compared, Hz:
@@ -143,6 +145,22 @@ def joint_acceleration_earth(
     return _lowpass(quat_rotate(quat_wxyz, a), rate_hz)
 
 
+def _centre_reliability(excitation: ExcitationReport | None) -> float:
+    """Weight in (0, 1] of a spherical joint's heading term: 1 / (1 + (σ / σ_ref)²).
+
+    ``σ`` is the joint centre's standard deviation along its most poorly determined
+    direction (:class:`~lowerlimb.calibration.ExcitationReport`); a centre known to
+    ±:data:`CENTRE_STD_REF_M` counts half. A wrong centre adds a spurious
+    ``α × Δc + ω × (ω × Δc)`` to the joint acceleration of one side only, which turns the
+    child's heading; nearly planar walking leaves the hip centre in a sacral sensor
+    ±6–8 cm uncertain, and its heading term would then overrule a good magnetometer or
+    the range-of-motion prior.
+    """
+    if excitation is None or not np.isfinite(excitation.weakest_std):
+        return 1.0 if excitation is None else 0.0
+    return float(1.0 / (1.0 + (excitation.weakest_std / CENTRE_STD_REF_M) ** 2))
+
+
 def correct_headings(
     quat_wxyz: dict[str, FloatArray],
     acc: dict[str, FloatArray],
@@ -196,6 +214,9 @@ def correct_headings(
             )
             v = joint_acceleration_earth(q_child, acc[child], gyr[child], j.center_in_child_sensor, rate_hz)
         S, C = _heading_sums(u, v, rate_hz, window_s)
+        if not hinge:
+            r = _centre_reliability(j.excitation)
+            S, C = r * S, r * C
         if R_sensor_segment is not None and not hinge:
             e_z = np.array([0.0, 0.0, 1.0])
             up = quat_rotate(out[parent], R_sensor_segment[parent] @ e_z)

@@ -23,7 +23,6 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 from scipy.interpolate import make_interp_spline
-from scipy.signal import butter, filtfilt
 
 from ..conventions import (
     GRAVITY_ENU,
@@ -60,16 +59,15 @@ from .simulator import MAG_FIELD_ENU_UT, _rigid_signals, _root_joint, _SensorSig
 __all__ = ["BilateralSimulation", "simulate_bilateral"]
 
 #: Smallest knee flexion kept while walking (the pelvis is lowered to keep it), rad; the
-#: smoothed height aims at twice as much. Near a straight knee its angle changes like the
+#: smoothed height aims at 1.5 times as much. Near a straight knee its angle changes like the
 #: square root of the hip–ankle distance, so a leg that touched full extension would see a
 #: kink in knee angle; adults keep 3–8° at initial contact and heel-off (Perry 2010).
 MIN_WALKING_KNEE_RAD = np.deg2rad(7.0)
 #: The minimum knee flexion is reached this long after the walk starts, s.
 KNEE_RAMP_S = 0.3
-#: Width of the soft minimum between the intended and the reachable pelvis height, m.
-SOFT_MIN_M = 0.004
-#: Cut-off of the zero-phase low-pass that smooths the pelvis height, Hz.
-PELVIS_HEIGHT_LOWPASS_HZ = 4.0
+#: The pelvis reaches its walking height this long after the walk starts (the first heel
+#: rises at the start; the first contact comes about 0.6 s later), s.
+HEIGHT_RAMP_S = 0.5
 
 
 @dataclass
@@ -149,9 +147,12 @@ def _pelvis_root(
 ) -> FloatArray:
     """(N, 7) pelvis root coordinates: path + sway, height, heading, tilt, obliquity, rotation.
 
-    The height is the standing height minus the drop, plus a 1 cm rise in each mid-stance,
-    lowered wherever a leg would need less than :data:`MIN_WALKING_KNEE_RAD` of knee
-    flexion to reach its planned ankle, then low-passed (:data:`PELVIS_HEIGHT_LOWPASS_HZ`).
+    The height is the standing height minus a few millimetres in mid-stance (a straight leg
+    vaults over the foot: 5 mm of drop already bends the knee by about 10°) and dips once per
+    step, lowest in double support, as a sinusoid at the step frequency (Perry 2010, ch. 17)
+    whose depth is the smallest that lets both legs reach their ankles with
+    1.5 :data:`MIN_WALKING_KNEE_RAD` of knee flexion; :data:`MIN_WALKING_KNEE_RAD` is then
+    enforced sample by sample.
     """
     heading, xy, ramp = path
     T = d.stride_time_s
@@ -164,30 +165,38 @@ def _pelvis_root(
     q[:, 4] = tilt * np.sin(4 * np.pi * u) * ramp
     q[:, 5] = obl * np.sin(2 * np.pi * u + 0.4) * ramp
     q[:, 6] = rot * np.sin(2 * np.pi * u - 0.3) * ramp
-    z_nom = z_stand - d.pelvis_drop_m * ramp + 0.01 * np.cos(4 * np.pi * (u - MID_STANCE_FRACTION)) * ramp
     knee_ramp = smoothstep(t, t0, KNEE_RAMP_S)
-    z_soft = _highest_pelvis(q, legs, feet, 2.0 * MIN_WALKING_KNEE_RAD * knee_ramp)
+    z_soft = _highest_pelvis(q, legs, feet, 1.5 * MIN_WALKING_KNEE_RAD * knee_ramp)
     z_hard = _highest_pelvis(q, legs, feet, MIN_WALKING_KNEE_RAD * knee_ramp)
-    b, a = butter(2, PELVIS_HEIGHT_LOWPASS_HZ / (0.5 / np.median(np.diff(t))))
-    margin = 0.0
-    for _ in range(8):  # lower the aim until the smoothed height never needs less knee flexion
-        z = z_nom
-        for _ in range(3):
-            z = filtfilt(b, a, _soft_min(z, z_soft - margin * knee_ramp, SOFT_MIN_M * ramp + 1e-12))
-        # the zero-phase filter anticipates the start: keep the standing height while standing and
-        # leave it with a high-order contact (the knee angle goes like the square root of the drop)
-        z = z_stand + (z - z_stand) * knee_ramp**2
-        if np.all(z <= z_hard + 1e-9):
-            break
-        margin += 0.003
+    # lowest in each double support (centred (β − ½)/2 after each IC), highest in mid-stance
+    shape = 0.5 * (1.0 + np.cos(4 * np.pi * (u - 0.5 * (d.stance_fraction - 0.5))))
+    # leave standing with a high-order contact (the knee angle goes like the square root of the
+    # drop), fully lowered before the first step lands
+    lower = smoothstep(t, t0, HEIGHT_RAMP_S) ** 2
+    walking = lower > 0.999
+    top, amplitude = _height_wave(z_stand - d.pelvis_drop_m, z_soft[walking], shape[walking])
+    z = z_stand - ((z_stand - top) + amplitude * shape) * lower
     q[:, 2] = np.minimum(z, z_hard)
     return q
 
 
-def _soft_min(a: FloatArray, b: FloatArray, width: FloatArray) -> FloatArray:
-    """Smooth minimum of ``a`` and ``b`` (same units as ``width``), below both; the hard one as width → 0."""
-    m = np.minimum(a, b)
-    return np.asarray(m - width * np.log(np.exp((m - a) / width) + np.exp((m - b) / width)))
+def _height_wave(highest: float, z_max: FloatArray, shape: FloatArray) -> tuple[float, float]:
+    """Top (m) and depth (m) of the pelvis wave ``top − depth · shape`` that stays below ``z_max``.
+
+    Of the waves no higher than ``highest`` (m) that stay below ``z_max`` (m) at every
+    sample, the one with the least mean lowering ``highest − top + depth / 2``; ``shape`` is
+    the wave's form in [0, 1]. Tops are tried in 0.5 mm steps down to 10 cm below.
+    """
+    best = (highest, np.inf, np.inf)
+    for top in highest - 0.0005 * np.arange(200):
+        slack = top - z_max
+        if np.any(slack[shape < 0.02] > 0.0):
+            continue
+        depth = max(0.0, float(np.max(slack / np.maximum(shape, 0.02))))
+        cost = highest - top + 0.5 * depth
+        if cost < best[2]:
+            best = (float(top), depth, cost)
+    return best[0], best[1] if np.isfinite(best[1]) else 0.1
 
 
 def _highest_pelvis(
@@ -228,11 +237,11 @@ def _foot_points(leg: LegModel) -> tuple[FloatArray, FloatArray]:
 
     The sole is ``ankle_height_m`` below the ankle; the heel 22 % of de Leva's foot length
     behind it, and the forefoot pivot of the last rocker (between the metatarsal heads and
-    the toe tip) 60 % ahead of it.
+    the toe tip) 65 % ahead of it.
     """
     h_a = ankle_height_m(leg.geometry.height_m)
     Lf = leg.geometry.inertias["foot"].length_m
-    return np.array([-0.22 * Lf, -h_a, 0.0]), np.array([0.60 * Lf, -h_a, 0.0])
+    return np.array([-0.22 * Lf, -h_a, 0.0]), np.array([0.65 * Lf, -h_a, 0.0])
 
 
 def _signals(leg: LegModel, t: FloatArray, Q: FloatArray) -> _SensorSignals:

@@ -56,11 +56,14 @@ __all__ = [
 
 #: The pelvis passes over the foot's ankle this fraction of the stride after IC (Perry 2010:
 #: ankle about 0.26 m ahead of the hip at IC and 0.40 m behind at toe-off).
-MID_STANCE_FRACTION = 0.24
+MID_STANCE_FRACTION = 0.20
 
 #: 1 / max of s³(1 − s)⁶ on [0, 1] (at s = 1/3): the swing lift peaks at a third of swing,
 #: where the knee is most flexed (Perry 2010).
 _LIFT_NORM = 1.0 / ((1 / 3) ** 3 * (2 / 3) ** 6)
+
+#: Gain of the swing time warp (:func:`_swing_warp`); its bump s³(1 − s)⁵ peaks at s = 3/8.
+_WARP_GAIN = 0.0 / ((3 / 8) ** 3 * (5 / 8) ** 5)
 
 #: Rotation of a segment frame (x anterior, y up, z right) at zero heading in ENU.
 R_ENU_SEGMENT0 = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
@@ -81,7 +84,7 @@ class WalkDraw:
         step_width_m: Lateral distance between the two feet's ankle centres, m.
         toe_out_rad: ``(left, right)`` foot progression angle, outwards positive, rad.
         clearance_m: Extra ankle height in early swing (the knee flexes to lift the foot), m.
-        pelvis_drop_m: Mean pelvis lowering while walking, m.
+        pelvis_drop_m: Pelvis lowering in mid-stance while walking, m.
         heading0_rad: Initial heading (walking direction from ENU east), rad.
         turn_amplitude_rad: Amplitude of the slow heading oscillation, rad.
         turn_hz: Its frequency, Hz.
@@ -119,11 +122,11 @@ def draw_walk(rng: np.random.Generator) -> WalkDraw:
         foot_flat_fraction=u(0.07, 0.10),
         heel_off_fraction=u(0.30, 0.38),
         ic_pitch_rad=np.deg2rad(u(14.0, 22.0)),
-        to_pitch_rad=np.deg2rad(u(45.0, 55.0)),
+        to_pitch_rad=np.deg2rad(u(55.0, 65.0)),
         step_width_m=u(0.08, 0.14),
         toe_out_rad=(np.deg2rad(u(2.0, 10.0)), np.deg2rad(u(2.0, 10.0))),
         clearance_m=u(0.08, 0.11),
-        pelvis_drop_m=u(0.015, 0.03),
+        pelvis_drop_m=u(0.003, 0.008),
         heading0_rad=u(-np.pi, np.pi),
         turn_amplitude_rad=u(0.3, 0.8),
         turn_hz=u(0.03, 0.06),
@@ -192,7 +195,8 @@ def _stance_pose(st: _Stance, d: WalkDraw, foot: _FootGeometry, T: float) -> Cal
     def pose(t: float) -> tuple[FloatArray, float, float]:
         if st.ic is not None and t < st.foot_flat:
             v = (t - st.ic) / (st.foot_flat - st.ic)
-            p = d.ic_pitch_rad * (1.0 - v) ** 3 * (1.0 + 2.0 * v)
+            # the foot is most toes-up at contact (rate 0); the floor then slaps it down
+            p = d.ic_pitch_rad * (1.0 - v) ** 3 * (1.0 + 3.0 * v)
         elif t <= st.heel_off:
             p = 0.0
         else:
@@ -290,6 +294,17 @@ def _stances(
     return out
 
 
+def _swing_warp(s: FloatArray) -> FloatArray:
+    """Front-loaded swing time for the horizontal progression (s ∈ [0, 1] → [0, 1]).
+
+    The foot leaves the ground accelerating hard: at a quarter of swing the ankle has
+    covered about a third of its way (the thigh already flexes while the knee is at its
+    most flexed; Perry 2010), not the tenth of a minimum-jerk profile. The warp keeps the
+    value, slope (1) and curvature (0) at both ends, so the Hermite end conditions hold.
+    """
+    return np.asarray(s + _WARP_GAIN * s**3 * (1.0 - s) ** 5)
+
+
 def _foot_samples(
     stances: list[_Stance], d: WalkDraw, foot: _FootGeometry, t: FloatArray
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -308,11 +323,13 @@ def _foot_samples(
         nxt = stances[j + 1]
         assert nxt.ic is not None
         y0, v0, a0 = _state(pose, st.toe_off)
-        y1, v1, a1 = _state(_stance_pose(nxt, d, foot, T), nxt.ic)
+        y1, v1, _ = _state(_stance_pose(nxt, d, foot, T), nxt.ic)
+        a1 = np.zeros_like(v1)  # contact is a C¹ join: the floor's push is a step in acceleration
         swing = (t > st.toe_off) & (t < nxt.ic)
         D = nxt.ic - st.toe_off
         s = (t[swing] - st.toe_off) / D
         y = _hermite5(y0, v0, a0, y1, v1, a1, D, s)
+        y[:, :2] = _hermite5(y0[:2], v0[:2], a0[:2], y1[:2], v1[:2], a1[:2], D, _swing_warp(s))
         y[:, 2] += d.clearance_m * _LIFT_NORM * s**3 * (1.0 - s) ** 6
         out[swing] = y
     return out[:, :3], out[:, 3], out[:, 4]
