@@ -215,7 +215,7 @@ def correct_headings(
             v = joint_acceleration_earth(q_child, acc[child], gyr[child], j.center_in_child_sensor, rate_hz)
         S, C = _heading_sums(u, v, rate_hz, window_s)
         if not hinge:
-            r = _centre_reliability(j.excitation)
+            r = _centre_reliability(getattr(j, "excitation", None))
             S, C = r * S, r * C
         if R_sensor_segment is not None and not hinge:
             e_z = np.array([0.0, 0.0, 1.0])
