@@ -68,6 +68,8 @@ KNEE_RAMP_S = 0.3
 #: The pelvis reaches its walking height this long after the walk starts (the first heel
 #: rises at the start; the first contact comes about 0.6 s later), s.
 HEIGHT_RAMP_S = 0.5
+#: Harmonics of the step frequency in the pelvis height (:func:`_step_harmonics`).
+PELVIS_HARMONICS = 3
 
 
 @dataclass
@@ -147,12 +149,12 @@ def _pelvis_root(
 ) -> FloatArray:
     """(N, 7) pelvis root coordinates: path + sway, height, heading, tilt, obliquity, rotation.
 
-    The height is the standing height minus a few millimetres in mid-stance (a straight leg
-    vaults over the foot: 5 mm of drop already bends the knee by about 10°) and dips once per
-    step, lowest in double support, as a sinusoid at the step frequency (Perry 2010, ch. 17)
-    whose depth is the smallest that lets both legs reach their ankles with
-    1.5 :data:`MIN_WALKING_KNEE_RAD` of knee flexion; :data:`MIN_WALKING_KNEE_RAD` is then
-    enforced sample by sample.
+    The height is periodic at the step frequency (Perry 2010, ch. 17: lowest in double
+    support, highest in mid-stance): the highest sum of :data:`PELVIS_HARMONICS` harmonics
+    that lets both legs reach their ankles with 1.5 :data:`MIN_WALKING_KNEE_RAD` of knee
+    flexion at every sample, with a mean at least a few millimetres below standing (a
+    straight leg vaults over the foot: 5 mm of drop already bends the knee by about 10°);
+    :data:`MIN_WALKING_KNEE_RAD` is then enforced sample by sample.
     """
     heading, xy, ramp = path
     T = d.stride_time_s
@@ -168,35 +170,44 @@ def _pelvis_root(
     knee_ramp = smoothstep(t, t0, KNEE_RAMP_S)
     z_soft = _highest_pelvis(q, legs, feet, 1.5 * MIN_WALKING_KNEE_RAD * knee_ramp)
     z_hard = _highest_pelvis(q, legs, feet, MIN_WALKING_KNEE_RAD * knee_ramp)
-    # lowest in each double support (centred (β − ½)/2 after each IC), highest in mid-stance
-    shape = 0.5 * (1.0 + np.cos(4 * np.pi * (u - 0.5 * (d.stance_fraction - 0.5))))
     # leave standing with a high-order contact (the knee angle goes like the square root of the
     # drop), fully lowered before the first step lands
     lower = smoothstep(t, t0, HEIGHT_RAMP_S) ** 2
     walking = lower > 0.999
-    top, amplitude = _height_wave(z_stand - d.pelvis_drop_m, z_soft[walking], shape[walking])
-    z = z_stand - ((z_stand - top) + amplitude * shape) * lower
+    basis = _step_harmonics(u)
+    coef = _height_wave(z_stand - d.pelvis_drop_m, z_soft[walking], basis[walking])
+    z = z_stand - (z_stand - basis @ coef) * lower
     q[:, 2] = np.minimum(z, z_hard)
     return q
 
 
-def _height_wave(highest: float, z_max: FloatArray, shape: FloatArray) -> tuple[float, float]:
-    """Top (m) and depth (m) of the pelvis wave ``top − depth · shape`` that stays below ``z_max``.
+def _step_harmonics(u: FloatArray) -> FloatArray:
+    """(N, 1 + 2 H) basis: 1, then cos and sin of the first H harmonics of the step frequency.
 
-    Of the waves no higher than ``highest`` (m) that stay below ``z_max`` (m) at every
-    sample, the one with the least mean lowering ``highest − top + depth / 2``; ``shape`` is
-    the wave's form in [0, 1]. Tops are tried in 0.5 mm steps down to 10 cm below.
+    ``u`` is the gait phase (strides); a step is half a stride, so the k-th harmonic is
+    ``cos(4π k u)``, ``sin(4π k u)``: the same pelvis height under both legs.
     """
-    best = (highest, np.inf, np.inf)
-    for top in highest - 0.0005 * np.arange(200):
-        slack = top - z_max
-        if np.any(slack[shape < 0.02] > 0.0):
-            continue
-        depth = max(0.0, float(np.max(slack / np.maximum(shape, 0.02))))
-        cost = highest - top + 0.5 * depth
-        if cost < best[2]:
-            best = (float(top), depth, cost)
-    return best[0], best[1] if np.isfinite(best[1]) else 0.1
+    cols = [np.ones_like(u)]
+    for k in range(1, PELVIS_HARMONICS + 1):
+        cols += [np.cos(4 * np.pi * k * u), np.sin(4 * np.pi * k * u)]
+    return np.column_stack(cols)
+
+
+def _height_wave(highest: float, z_max: FloatArray, basis: FloatArray) -> FloatArray:
+    """Coefficients of the highest periodic pelvis height that stays below ``z_max`` (m).
+
+    The linear programme: maximise the mean of ``basis @ c`` subject to
+    ``basis @ c ≤ z_max`` at every sample and a mean no higher than ``highest`` (m).
+    """
+    from scipy.optimize import linprog
+
+    mean_row = basis.mean(axis=0)
+    A = np.vstack([basis, mean_row])
+    b = np.concatenate([z_max, [highest]])
+    res = linprog(-mean_row, A_ub=A, b_ub=b, bounds=[(None, None)] * basis.shape[1], method="highs")
+    if not res.success:  # pragma: no cover - the constant min(z_max) is always feasible
+        return np.concatenate([[float(z_max.min())], np.zeros(basis.shape[1] - 1)])
+    return np.asarray(res.x)
 
 
 def _highest_pelvis(
