@@ -41,3 +41,33 @@ def test_real_walk_two_legs():
     # one pelvis: measured +2 mm (the single-leg centres +104 mm: poorly determined vertically)
     assert abs(res["hips"]["spacing_err_mm"]) < 40
     assert res["hips"]["single_leg_spacing_mm"] > res["hips"]["spacing_mm"]
+
+
+def test_swapped_legs_of_the_real_walk_are_refused():
+    """Exchanging the left_* and right_* columns is caught from the pair of hips (one line, the fix)."""
+    import warnings
+
+    from lowerlimb.bilateral import process_bilateral_trial
+    from lowerlimb.bilateral.process import BilateralSideError
+    from lowerlimb.io import load_xsens
+    from lowerlimb.io.bilateral_trial import BilateralTrial
+
+    assert DATA is not None
+    mod = _benchmark()
+    rec = load_xsens(mod.raw_dir(DATA), mod.IDS)
+    trial = BilateralTrial(rec.time_s, rec.acc, rec.gyr, rec.mag)
+
+    def swap(d: dict) -> dict:
+        out = {"pelvis": d["pelvis"]}
+        for seg in ("thigh", "shank", "foot"):
+            out[f"left_{seg}"], out[f"right_{seg}"] = d[f"right_{seg}"], d[f"left_{seg}"]
+        return out
+
+    swapped = BilateralTrial(
+        trial.time_s, swap(trial.acc), swap(trial.gyr), swap(trial.mag) if trial.mag is not None else None
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(BilateralSideError, match="look swapped.*exchange the left_\\* and right_\\*"):
+            process_bilateral_trial(swapped)
+        process_bilateral_trial(trial)  # as recorded: no error

@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from ..calibration.options import CalibrationOptions
-from ..calibration.plausibility import SensorOrderError, WrongSideError
+from ..calibration.plausibility import PlausibilityParams, SensorOrderError, WrongSideError
 from ..conventions import SIDES, FloatArray
 from ..errors import InputError
 from ..gait import GaitParams
@@ -158,6 +158,43 @@ def _use_mag(trial: BilateralTrial, filter_name: str, use_mag: bool) -> bool:
     return True
 
 
+def _check_pair_sides(legs: dict[str, TrialResult], height_m: float, hip_params: HipParams | None) -> None:
+    """Refuse swapped ``left_*``/``right_*`` columns: the right hip must lie right of the left one.
+
+    Each leg's pelvis frame points right whatever its label (the knee axis is signed by
+    flexion), so with the columns swapped the "right" hip comes out on the left. The pair
+    is far more robust than one hip against the sacral sensor: a straight walk leaves
+    each hip centre uncertain by centimetres (mostly along the same directions in both
+    legs), and a pelvis sensor off the midline shifts both hips alike. The verdict needs
+    a standing start and a separation of at least ``side_min_sigmas`` combined standard
+    deviations of the two hip centres.
+
+    Raises:
+        BilateralSideError: the hips are swapped.
+    """
+    trial = legs["left"].trial
+    if trial.standing_samples(1.0, trial.still_period()) == 0:
+        return
+    pair = check_hips(
+        legs["left"].calibration,
+        legs["right"].calibration,
+        {s: r.motion.frames.R_sensor_segment["pelvis"] for s, r in legs.items()},
+        height_m=height_m,
+        params=hip_params,
+    )
+    p = PlausibilityParams()
+    stds = [legs[s].calibration.hip.excitation for s in SIDES]
+    sigma = float(np.hypot(*[e.weakest_std if e is not None else 0.0 for e in stds]))
+    if pair.lateral_m < -p.side_min_offset_m and abs(pair.lateral_m) >= p.side_min_sigmas * sigma:
+        err = BilateralSideError("left", -pair.lateral_m)
+        err.args = (
+            f"the left_* and right_* sensors look swapped: the calibrated right hip centre lies "
+            f"{abs(pair.lateral_m) * 100:.1f} cm to the left of the left one; exchange the left_* and "
+            f"right_* columns (or pass --no-side-check if the pelvis sensor moved during the standing start)",
+        )
+        raise err
+
+
 def _process_leg(
     trial: BilateralTrial, side: str, **kwargs: Any
 ) -> tuple[TrialResult, list[warnings.WarningMessage]]:
@@ -268,7 +305,7 @@ def process_bilateral_trial(
         "mass_kg": mass_kg,
         "progress": progress,
         "calibration_options": calibration_options,
-        "side_check": side_check,
+        "side_check": False,  # two legs: the pair of hips decides (_check_pair_sides)
     }
     legs: dict[str, TrialResult] = {}
     caught: dict[str, list[warnings.WarningMessage]] = {}
@@ -285,6 +322,8 @@ def process_bilateral_trial(
     for side, r in legs.items():
         for k, v in r.timings_s.items():
             timings[f"{side}: {k}"] = v
+    if side_check:
+        _check_pair_sides(legs, height_m, hip_params)
     pelvis = None
     if one_pelvis:
         t0 = time.perf_counter()

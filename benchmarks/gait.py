@@ -1,0 +1,301 @@
+"""Both legs: the goals of issue 11 on simulated seven-IMU walks and on the real walk, in one table.
+
+Simulated (``lowerlimb.simulation.simulate_bilateral``, fresh seeds, realistic noise, 60 s):
+each trial goes through ``process_bilateral_trial`` (what ``lowerlimb calibrate`` runs on a
+seven-sensor CSV) and is scored against the simulator's truth:
+
+- events: each true initial contact (heel touches) and toe-off (toe leaves) is matched to the
+  nearest detected event of its side and kind within 0.2 s (IMU − truth, ms);
+- strides: each true stride is matched to the detected stride of its side starting within
+  0.2 s; stride length error in % of the truth, step width and step length in mm;
+- angles: RMSE per angle and side after the standing period, degrees;
+- the hip spacing against the truth.
+
+Real (``gait/``, Xsens + Vicon): the numbers of ``bilateral_gait.py`` (calibrate on seven
+IMUs, segment lengths, stride length and step width against the Vicon ankle centres) and
+``gait_events.py`` (events against the marker events of Zeni et al. 2008, straight walking).
+
+Goals (issue 11): real walk: both legs calibrate, segment lengths within 20 mm, events within
+20 ms median (40 ms worst), stride length within 3 %, step width within 20 mm; simulated:
+events within 10 ms median, stride length within 2 %, flexion RMSE ≤ 2°, other angles ≤ 3°.
+
+Usage: ``python benchmarks/gait.py [--data ../shared/data] [--seeds 201 202 …] [--duration 60]``;
+writes ``benchmarks/results/gait.{md,json}``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import json
+import time
+import warnings
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+
+from lowerlimb.bilateral import process_bilateral_trial
+from lowerlimb.conventions import ANGLE_COLUMNS, SIDES
+from lowerlimb.simulation import simulate_bilateral
+
+ROOT = Path(__file__).resolve().parents[1]
+MATCH_S = 0.2
+SKIP_S = 3.0  # standing and the first step
+GOALS = {
+    "sim_event_median_ms": 10.0,
+    "sim_stride_length_pct": 2.0,
+    "sim_flexion_rmse_deg": 2.0,
+    "sim_other_rmse_deg": 3.0,
+    "real_event_median_ms": 20.0,
+    "real_event_worst_ms": 40.0,
+    "real_length_mm": 20.0,
+    "real_stride_length_pct": 3.0,
+    "real_step_width_mm": 20.0,
+}
+ANGLES = ANGLE_COLUMNS[1:]
+
+
+def _module(name: str) -> ModuleType:
+    spec = importlib.util.spec_from_file_location(f"{name}_benchmark", ROOT / "benchmarks" / f"{name}.py")
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def _stats(x: list[float]) -> dict[str, float]:
+    a = np.asarray([v for v in x if np.isfinite(v)], dtype=float)
+    if a.size == 0:
+        return {"n": 0, "median_abs": float("nan"), "worst_abs": float("nan"), "bias": float("nan")}
+    return {
+        "n": int(a.size),
+        "median_abs": float(np.median(np.abs(a))),
+        "worst_abs": float(np.max(np.abs(a))),
+        "bias": float(np.mean(a)),
+    }
+
+
+def _event_errors(true_s: np.ndarray, est_s: np.ndarray) -> tuple[list[float], int]:
+    """IMU − truth (ms) for each true event after :data:`SKIP_S`, and the number missed."""
+    errs, missed = [], 0
+    for x in true_s[true_s > SKIP_S]:
+        if est_s.size == 0 or np.min(np.abs(est_s - x)) > MATCH_S:
+            missed += 1
+            continue
+        errs.append(1000.0 * float(est_s[np.argmin(np.abs(est_s - x))] - x))
+    return errs, missed
+
+
+def score_simulation(seed: int, duration_s: float) -> dict[str, Any]:
+    """One simulated walk through the two-leg pipeline, scored against its truth."""
+    sim = simulate_bilateral(duration_s, seed)
+    t0 = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = process_bilateral_trial(sim.trial)
+    out: dict[str, Any] = {"seed": seed, "wall_s": time.perf_counter() - t0, "warnings": len(caught)}
+    ev = res.gait.events
+    for side in SIDES:
+        se = getattr(ev, side) if ev is not None else None
+        truth = sim.feet[side].events
+        for kind, true_s, est in (
+            ("initial_contact", truth.initial_contact_s, se.initial_contact_s if se else np.zeros(0)),
+            ("toe_off", truth.toe_off_s, se.toe_off_s if se else np.zeros(0)),
+        ):
+            errs, missed = _event_errors(np.asarray(true_s), np.asarray(est))
+            out[f"{side}_{kind}_ms"] = errs
+            out[f"{side}_{kind}_missed"] = missed
+    strides = res.gait.parameters.strides if res.gait.parameters is not None else []
+    length, width, step = [], [], []
+    for st in sim.gait.strides:
+        if st.start_s < SKIP_S:
+            continue
+        cand = [s for s in strides if s.side == st.side and abs(s.start_s - st.start_s) < MATCH_S]
+        if not cand:
+            continue
+        c = cand[0]
+        length.append(100.0 * (c.stride_length_m - st.stride_length_m) / st.stride_length_m)
+        width.append(1000.0 * (c.step_width_m - st.step_width_m))
+        step.append(1000.0 * (c.step_length_m - st.step_length_m))
+    out |= {"stride_length_pct": length, "step_width_mm": width, "step_length_mm": step}
+    keep = sim.trial.time_s > SKIP_S
+    err = np.rad2deg(res.angles_rad - sim.angles_rad)[keep]
+    rmse = np.sqrt(np.mean(err**2, axis=0))
+    out["angle_rmse_deg"] = {
+        side: {name: float(rmse[9 * i + k]) for k, name in enumerate(ANGLES)} for i, side in enumerate(SIDES)
+    }
+    c_true = {s: np.asarray(sim.truth["legs"][s]["joints"]["hip"]["center_in_parent_sensor"]) for s in SIDES}
+    out["hip_spacing_err_mm"] = 1000.0 * (
+        res.hips.spacing_m - float(np.linalg.norm(c_true["right"] - c_true["left"]))
+    )
+    return out
+
+
+def summarise_simulation(trials: list[dict[str, Any]]) -> dict[str, Any]:
+    """Pooled event, stride and angle statistics over the simulated trials."""
+    pooled: dict[str, Any] = {}
+    for kind in ("initial_contact", "toe_off"):
+        errs = [e for tr in trials for side in SIDES for e in tr[f"{side}_{kind}_ms"]]
+        pooled[kind] = _stats(errs) | {
+            "missed": sum(tr[f"{s}_{kind}_missed"] for tr in trials for s in SIDES)
+        }
+    for key in ("stride_length_pct", "step_width_mm", "step_length_mm"):
+        pooled[key] = _stats([e for tr in trials for e in tr[key]])
+    worst = {
+        side: {name: max(tr["angle_rmse_deg"][side][name] for tr in trials) for name in ANGLES}
+        for side in SIDES
+    }
+    median = {
+        side: {name: float(np.median([tr["angle_rmse_deg"][side][name] for tr in trials])) for name in ANGLES}
+        for side in SIDES
+    }
+    pooled["angle_rmse_deg"] = {"median": median, "worst": worst}
+    pooled["hip_spacing_err_mm"] = _stats([tr["hip_spacing_err_mm"] for tr in trials])
+    return pooled
+
+
+def real(data: Path) -> dict[str, Any]:
+    """The real-walk numbers of ``bilateral_gait.py`` and ``gait_events.py``."""
+    bg = _module("bilateral_gait").run(data)
+    ge = _module("gait_events").run(data)
+    return {"bilateral_gait": bg, "gait_events": ge}
+
+
+def _fmt(x: float, unit: str = "") -> str:
+    return "–" if x is None or not np.isfinite(x) else f"{x:.1f}{unit}"
+
+
+def markdown(res: dict[str, Any]) -> str:
+    g = GOALS
+    s = res["simulated"]["pooled"]
+    seeds = res["simulated"]["seeds"]
+    L = [
+        "# Both legs: issue 11's goals on simulated seven-IMU walks and on the real walk",
+        "",
+        f"Simulated: `simulate_bilateral` seeds {', '.join(map(str, seeds))}, "
+        f"{res['simulated']['duration_s']:g} s each, realistic noise, scored after {SKIP_S:g} s "
+        "(standing and the first step). Real: `gait/` (Xsens + Vicon), straight walking.",
+        "",
+        "## Simulated (truth: the simulator's heel contacts, toe-offs, ankle centres and angles)",
+        "",
+        "| quantity | n | median abs | worst abs | bias | goal | met |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for key, unit, goal in (
+        ("initial_contact", " ms", g["sim_event_median_ms"]),
+        ("toe_off", " ms", g["sim_event_median_ms"]),
+        ("stride_length_pct", " %", g["sim_stride_length_pct"]),
+        ("step_width_mm", " mm", None),
+        ("step_length_mm", " mm", None),
+        ("hip_spacing_err_mm", " mm", None),
+    ):
+        st = s[key]
+        met = "" if goal is None else ("yes" if st["median_abs"] <= goal else "**no**")
+        L.append(
+            f"| {key} | {st['n']} | {_fmt(st['median_abs'], unit)} | {_fmt(st['worst_abs'], unit)} | "
+            f"{_fmt(st['bias'], unit)} | {'' if goal is None else f'≤ {goal:g}{unit} median'} | {met} |"
+        )
+    L += ["", "Angle RMSE, degrees (median over trials / worst trial):", ""]
+    L += ["| side | " + " | ".join(ANGLES) + " |", "|---|" + "---|" * len(ANGLES)]
+    for side in SIDES:
+        cells = []
+        for name in ANGLES:
+            med, worst = s["angle_rmse_deg"]["median"][side][name], s["angle_rmse_deg"]["worst"][side][name]
+            goal = (
+                g["sim_flexion_rmse_deg"]
+                if name.endswith(("flexion", "dorsiflexion"))
+                else g["sim_other_rmse_deg"]
+            )
+            mark = "" if worst <= goal else "*"
+            cells.append(f"{med:.2f} / {worst:.2f}{mark}")
+        L.append(f"| {side} | " + " | ".join(cells) + " |")
+    L += ["", "`*` the worst trial misses the goal (flexion ≤ 2°, others ≤ 3°).", ""]
+    L += [
+        "Per trial:",
+        "",
+        "| seed | IC median ms | TO median ms | stride % median | wall s |",
+        "|---|---|---|---|---|",
+    ]
+    for tr in res["simulated"]["trials"]:
+        ic = _stats(tr["left_initial_contact_ms"] + tr["right_initial_contact_ms"])["median_abs"]
+        to = _stats(tr["left_toe_off_ms"] + tr["right_toe_off_ms"])["median_abs"]
+        sl = _stats(tr["stride_length_pct"])["median_abs"]
+        L.append(f"| {tr['seed']} | {_fmt(ic)} | {_fmt(to)} | {_fmt(sl)} | {tr['wall_s']:.1f} |")
+    r = res.get("real")
+    if r:
+        bg, ge = r["bilateral_gait"], r["gait_events"]
+        L += [
+            "",
+            "## Real walk (gait/, S02 Walk-1)",
+            "",
+            "| quantity | value | goal | met |",
+            "|---|---|---|---|",
+        ]
+        L.append(
+            f"| both legs calibrate | {bg.get('both_legs_calibrate')} | yes | "
+            f"{'yes' if bg.get('both_legs_calibrate') else '**no**'} |"
+        )
+        for side, leg in bg.get("legs", {}).items():
+            for seg in ("thigh", "shank"):
+                e = leg.get(f"{seg}_err_mm", float("nan"))
+                met = "yes" if abs(e) <= g["real_length_mm"] else "**no**"
+                L.append(
+                    f"| {side} {seg} length error | {e:+.0f} mm | ≤ {g['real_length_mm']:g} mm | {met} |"
+                )
+        for name, st in ge["events"].items():
+            if "vs" in name:
+                continue
+            stt = st["straight"]
+            met = (
+                "yes"
+                if stt["median_abs_ms"] <= g["real_event_median_ms"]
+                and stt["worst_abs_ms"] <= g["real_event_worst_ms"]
+                else "**no**"
+            )
+            L.append(
+                f"| {name} (straight, n={stt['n']}) | median {_fmt(stt['median_abs_ms'])} / worst "
+                f"{_fmt(stt['worst_abs_ms'])} / bias {_fmt(stt['bias_ms'])} ms | ≤ 20 / 40 ms | {met} |"
+            )
+        for key, goal, unit in (
+            ("stride_length_err_pct", g["real_stride_length_pct"], "%"),
+            ("step_width_err_mm", g["real_step_width_mm"], "mm"),
+        ):
+            st = bg.get(key, {})
+            med, worst = st.get("median_abs", float("nan")), st.get("worst_abs", float("nan"))
+            met = "yes" if med <= goal else "**no**"
+            L.append(
+                f"| {key} (n={st.get('n', 0)}) | median {_fmt(med)} / worst {_fmt(worst)} "
+                f"{unit} | ≤ {goal:g} {unit} | {met} |"
+            )
+    return "\n".join(L) + "\n"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
+    ap.add_argument("--seeds", type=int, nargs="+", default=[201, 202, 203, 204, 205, 206])
+    ap.add_argument("--duration", type=float, default=60.0)
+    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
+    args = ap.parse_args()
+    trials = [score_simulation(seed, args.duration) for seed in args.seeds]
+    res: dict[str, Any] = {
+        "goals": GOALS,
+        "simulated": {
+            "seeds": args.seeds,
+            "duration_s": args.duration,
+            "pooled": summarise_simulation(trials),
+            "trials": trials,
+        },
+    }
+    if (args.data / "gait").is_dir():
+        res["real"] = real(args.data)
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "gait.json").write_text(json.dumps(res, indent=1, default=float) + "\n")
+    (args.out / "gait.md").write_text(markdown(res))
+    print(markdown(res))
+
+
+if __name__ == "__main__":
+    main()
