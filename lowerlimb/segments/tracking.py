@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from ..calibration import LegCalibration
 
 #: Weight (m/s²)² of the shared magnetic heading when orientations are 9-axis.
-MAG_HEADING_WEIGHT = 0.1
+MAG_HEADING_WEIGHT = 10.0
 
 
 @dataclass(frozen=True)
