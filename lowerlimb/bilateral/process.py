@@ -184,7 +184,7 @@ def _check_pair_sides(legs: dict[str, TrialResult], height_m: float, hip_params:
     )
     p = PlausibilityParams()
     stds = [legs[s].calibration.hip.excitation for s in SIDES]
-    sigma = float(np.hypot(*[e.weakest_std if e is not None else 0.0 for e in stds]))
+    sigma = float(np.sqrt(sum((e.weakest_std if e is not None else 0.0) ** 2 for e in stds)))
     if pair.lateral_m < -p.side_min_offset_m and abs(pair.lateral_m) >= p.side_min_sigmas * sigma:
         err = BilateralSideError("left", -pair.lateral_m)
         err.args = (
