@@ -22,8 +22,11 @@ when the other leg's stride P → N is.
 
 Step length and width need both feet in one horizontal frame. Each foot is
 integrated on its own, so (i) the right trajectory is rotated about the
-vertical onto the left one by the circular mean of the heading differences of
-simultaneous straight strides (both feet walk the same way), and (ii) the
+vertical onto the left one, stride by stride, by the kernel-weighted circular
+mean (:attr:`GaitParams.pair_yaw_window_s`) of the heading differences of
+simultaneous straight strides (both feet walk the same way; the two feet's
+headings drift apart by degrees over minutes, which a single rotation would
+turn into decimetres of step width), and (ii) the
 remaining translation is unobservable from foot IMUs alone: it comes from a
 :class:`FootAnchor` (e.g. from the calibrated chain, or a standing posture).
 Without an anchor, step length and step width are NaN (``null`` in JSON).
@@ -184,8 +187,10 @@ def _temporal(ev: SideEvents, other: SideEvents | None, k: int, p: GaitParams) -
     return out
 
 
-def _pair_yaw(cl: Contacts, evl: SideEvents, cr: Contacts, evr: SideEvents, p: GaitParams) -> float:
-    """Circular mean of left-minus-right stride directions over overlapping straight strides."""
+def _pair_yaw_samples(
+    cl: Contacts, evl: SideEvents, cr: Contacts, evr: SideEvents, p: GaitParams
+) -> FloatArray:
+    """(M, 3) rows ``(time s, left − right stride direction rad, weight m²)`` of overlapping strides."""
     thr = np.deg2rad(p.turn_heading_deg)
 
     def straight(c: Contacts) -> list[tuple[float, float, FloatArray]]:
@@ -201,22 +206,68 @@ def _pair_yaw(cl: Contacts, evl: SideEvents, cr: Contacts, evr: SideEvents, p: G
         return out
 
     sl, sr = straight(cl), straight(cr)
-    s = c = 0.0
+    rows = []
     for a0, a1, dr in sr:
         ov = [min(a1, b1) - max(a0, b0) for b0, b1, _ in sl]
         if not ov or max(ov) <= 0:
             continue
         dl = sl[int(np.argmax(ov))][2]
         ang = np.arctan2(dl[1], dl[0]) - np.arctan2(dr[1], dr[0])
-        wgt = float(np.linalg.norm(dl) * np.linalg.norm(dr))
-        s, c = s + wgt * np.sin(ang), c + wgt * np.cos(ang)
-    return float(np.arctan2(s, c)) if (s or c) else float("nan")
+        rows.append((0.5 * (a0 + a1), float(ang), float(np.linalg.norm(dl) * np.linalg.norm(dr))))
+    return np.asarray(rows, dtype=float).reshape(-1, 3)
+
+
+def _yaw_at(samples: FloatArray, t: FloatArray, window_s: float) -> FloatArray:
+    """Right-onto-left heading (rad) at times ``t`` (s): kernel-weighted circular mean of ``samples``.
+
+    A Gaussian kernel of ``window_s`` (s) follows the slow heading drift between the two
+    feet; a tenth of the whole-walk mean keeps it defined far from straight strides.
+    ``window_s = inf`` gives the whole-walk mean everywhere.
+    """
+    ts, ang, w = samples[:, 0], samples[:, 1], samples[:, 2]
+    S0, C0 = float(np.sum(w * np.sin(ang))), float(np.sum(w * np.cos(ang)))
+    t = np.atleast_1d(np.asarray(t, dtype=float))
+    if not np.isfinite(window_s):
+        return np.full(t.shape, np.arctan2(S0, C0))
+    K = w[None, :] * np.exp(-0.5 * ((t[:, None] - ts[None, :]) / window_s) ** 2)
+    S = K @ np.sin(ang) + 0.1 * S0 / max(len(ang), 1)
+    C = K @ np.cos(ang) + 0.1 * C0 / max(len(ang), 1)
+    return np.asarray(np.arctan2(S, C))
+
+
+def _rotate_track(
+    time_s: FloatArray,
+    pos: FloatArray,
+    anchor_t: float,
+    anchor_p: FloatArray,
+    yaw: FloatArray,
+    yaw_anchor: float,
+) -> tuple[FloatArray, FloatArray]:
+    """Contact positions (K, 3) and the anchor point (3,) with each step turned by its own yaw.
+
+    The points, the anchor included, are chained in time order; each increment between
+    consecutive finite points is turned about the vertical by the yaw at its later end,
+    so a slowly varying heading error between the feet is undone stride by stride.
+    """
+    times = np.concatenate([[anchor_t], time_s])
+    pts = np.vstack([anchor_p[None, :], pos])
+    yaws = np.concatenate([[yaw_anchor], yaw])
+    order = np.argsort(times, kind="stable")
+    out = np.full_like(pts, np.nan)
+    last_raw = last_out = None
+    for i in order:
+        if not np.all(np.isfinite(pts[i])):
+            continue
+        R = rot_z(yaws[i])
+        out[i] = R @ pts[i] if last_raw is None else last_out + R @ (pts[i] - last_raw)
+        last_raw, last_out = pts[i], out[i]
+    return out[1:], out[0]
 
 
 def _anchor_shift(
-    trl: FootTrajectory, cl: Contacts, pr: FloatArray, anchor: FootAnchor, offset: FloatArray
+    trl: FootTrajectory, cl: Contacts, pr_k: FloatArray, anchor: FootAnchor, offset: FloatArray
 ) -> FloatArray:
-    """Horizontal translation putting the right foot where the anchor says, relative to the left."""
+    """Horizontal translation putting the right foot (``pr_k`` at the anchor time) where the anchor says."""
     k = int(np.clip(round(anchor.time_s * trl.rate_hz), 0, trl.position_m.shape[0] - 1))
     pl = trl.point_m(offset)[k]
     after = np.flatnonzero(cl.time_s >= anchor.time_s)
@@ -226,7 +277,7 @@ def _anchor_shift(
     left = np.array([-u[1], u[0]])
     target = pl[:2] + anchor.forward_m * u + anchor.left_m * left
     shift = np.zeros(3)
-    shift[:2] = target - pr[k, :2]
+    shift[:2] = target - pr_k[:2]
     return shift
 
 
@@ -263,16 +314,22 @@ def compute_gait_parameters(
     yaw = float("nan")
     anchored = False
     if "left" in contacts and "right" in contacts and events.left and events.right and left and right:
-        yaw = _pair_yaw(contacts["left"], events.left, contacts["right"], events.right, p)
+        samples = _pair_yaw_samples(contacts["left"], events.left, contacts["right"], events.right, p)
+        if samples.shape[0]:
+            yaw = float(_yaw_at(samples, np.zeros(1), np.inf)[0])
         if np.isfinite(yaw) and anchor is not None:
-            Rz = rot_z(yaw)
             cr = contacts["right"]
-            pr_all = right.point_m(offset) @ Rz.T
-            shift = _anchor_shift(left, contacts["left"], pr_all, anchor, offset)
+            k = int(np.clip(round(anchor.time_s * right.rate_hz), 0, right.position_m.shape[0] - 1))
+            yaw_c = _yaw_at(samples, cr.time_s, p.pair_yaw_window_s)
+            yaw_a = float(_yaw_at(samples, np.array([anchor.time_s]), p.pair_yaw_window_s)[0])
+            pos, pa = _rotate_track(
+                cr.time_s, cr.position_m, anchor.time_s, right.point_m(offset)[k], yaw_c, yaw_a
+            )
+            shift = _anchor_shift(left, contacts["left"], pa, anchor, offset)
             contacts["right"] = Contacts(
                 time_s=cr.time_s,
-                position_m=cr.position_m @ Rz.T + shift,
-                R_earth_sensor=Rz @ cr.R_earth_sensor,
+                position_m=pos + shift,
+                R_earth_sensor=rot_z(yaw_c) @ cr.R_earth_sensor,
                 period=cr.period,
             )
             anchored = True

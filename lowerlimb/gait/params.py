@@ -54,6 +54,9 @@ class GaitParams:
             norm over the stationary samples, m/s².
         turn_heading_deg: A stride whose foot heading changes by more than this between
             its two contacts is a turning stride, deg.
+        pair_yaw_window_s: Standard deviation of the Gaussian kernel over which the heading
+            between the two feet's trajectories is averaged, s (``inf``: one rotation for
+            the whole walk).
         sensor_to_ankle_m: Constant vector from the foot sensor to the ankle centre in
             the foot sensor frame, m (zeros: gait geometry on the sensor positions).
         max_ds_fraction: A double-support interval longer than this fraction of the
@@ -78,6 +81,7 @@ class GaitParams:
     merge_gap_s: float = 0.03
     gravity_mps2: float | None = None
     turn_heading_deg: float = 20.0
+    pair_yaw_window_s: float = 10.0
     sensor_to_ankle_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     max_ds_fraction: float = 0.4
 
