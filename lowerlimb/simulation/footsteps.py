@@ -58,10 +58,10 @@ __all__ = [
 #: ankle about 0.26 m ahead of the hip at IC and 0.40 m behind at toe-off).
 MID_STANCE_FRACTION = 0.20
 
-#: 1 / max of s²(1 − s)⁵ on [0, 1] (at s = 2/7): the swing lift peaks early in swing, where
-#: the knee is most flexed, and starts at toe-off with the knee still flexing fast (Perry
-#: 2010); its acceleration steps at toe-off (a C¹ join, as at contact).
-_LIFT_NORM = 1.0 / ((2 / 7) ** 2 * (5 / 7) ** 5)
+#: 1 / max of s³(1 − s)⁵ on [0, 1] (at s = 3/8): the swing lift peaks early in swing, where
+#: the knee is most flexed (Perry 2010); it joins toe-off with zero velocity and acceleration
+#: (a C² join: a step in acceleration would ring through the spline of the joint angles).
+_LIFT_NORM = 1.0 / ((3 / 8) ** 3 * (5 / 8) ** 5)
 
 #: Gain of the swing time warp (:func:`_swing_warp`); its bump s³(1 − s)⁵ peaks at s = 3/8.
 _WARP_GAIN = 0.0 / ((3 / 8) ** 3 * (5 / 8) ** 5)
@@ -331,7 +331,7 @@ def _foot_samples(
         s = (t[swing] - st.toe_off) / D
         y = _hermite5(y0, v0, a0, y1, v1, a1, D, s)
         y[:, :2] = _hermite5(y0[:2], v0[:2], a0[:2], y1[:2], v1[:2], a1[:2], D, _swing_warp(s))
-        y[:, 2] += d.clearance_m * _LIFT_NORM * s**2 * (1.0 - s) ** 5
+        y[:, 2] += d.clearance_m * _LIFT_NORM * s**3 * (1.0 - s) ** 5
         out[swing] = y
     return out[:, :3], out[:, 3], out[:, 4]
 
