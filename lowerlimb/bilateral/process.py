@@ -158,16 +158,23 @@ def _use_mag(trial: BilateralTrial, filter_name: str, use_mag: bool) -> bool:
     return True
 
 
-def _check_pair_sides(legs: dict[str, TrialResult], height_m: float, hip_params: HipParams | None) -> None:
+def _check_pair_sides(
+    legs: dict[str, TrialResult],
+    height_m: float,
+    hip_params: HipParams | None,
+    pelvis_params: PelvisParams | None = None,
+) -> None:
     """Refuse swapped ``left_*``/``right_*`` columns: the right hip must lie right of the left one.
 
     Each leg's pelvis frame points right whatever its label (the knee axis is signed by
     flexion), so with the columns swapped the "right" hip comes out on the left. The pair
-    is far more robust than one hip against the sacral sensor: a straight walk leaves
+    is more robust than one hip against the sacral sensor: a straight walk leaves
     each hip centre uncertain by centimetres (mostly along the same directions in both
     legs), and a pelvis sensor off the midline shifts both hips alike. The verdict needs
     a standing start and a separation of at least ``side_min_sigmas`` combined standard
-    deviations of the two hip centres.
+    deviations of the two hip centres (reported spread plus
+    :attr:`PelvisParams.model_std_m` each), and each hip on the other side of the sacral
+    sensor as well.
 
     Raises:
         BilateralSideError: the hips are swapped.
@@ -184,8 +191,25 @@ def _check_pair_sides(legs: dict[str, TrialResult], height_m: float, hip_params:
     )
     p = PlausibilityParams()
     stds = [legs[s].calibration.hip.excitation for s in SIDES]
-    sigma = float(np.sqrt(sum((e.weakest_std if e is not None else 0.0) ** 2 for e in stds)))
-    if pair.lateral_m < -p.side_min_offset_m and abs(pair.lateral_m) >= p.side_min_sigmas * sigma:
+    # the reported spread understates a hip centre's error several-fold on walking (the
+    # pelvis barely rotates about horizontal axes): add the model error of each hip
+    model = (pelvis_params or PelvisParams()).model_std_m
+    sigma = float(np.sqrt(sum((e.weakest_std if e is not None else 0.0) ** 2 + model**2 for e in stds)))
+    # a swap puts each hip on the other side of the sacral sensor too; one hip alone on the
+    # wrong side is a failed hip calibration (e.g. stuck at a bound), not a swap
+    lateral = {
+        s: float(
+            legs[s].model.geometry.joint_origins["hip"][2, 3]
+            - legs[s].model.geometry.sensor_placements["pelvis"][2, 3]
+        )
+        for s in SIDES
+    }
+    both_flipped = lateral["left"] > 0.0 and lateral["right"] < 0.0
+    if (
+        both_flipped
+        and pair.lateral_m < -p.side_min_offset_m
+        and abs(pair.lateral_m) >= p.side_min_sigmas * sigma
+    ):
         err = BilateralSideError("left", -pair.lateral_m)
         err.args = (
             f"the left_* and right_* sensors look swapped: the calibrated right hip centre lies "
@@ -323,7 +347,7 @@ def process_bilateral_trial(
         for k, v in r.timings_s.items():
             timings[f"{side}: {k}"] = v
     if side_check:
-        _check_pair_sides(legs, height_m, hip_params)
+        _check_pair_sides(legs, height_m, hip_params, pelvis_params)
     pelvis = None
     if one_pelvis:
         t0 = time.perf_counter()
