@@ -24,6 +24,7 @@ Pipeline (choices the paper leaves open are written here):
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -97,6 +98,10 @@ def _direction_text(v: FloatArray) -> str:
     return "(" + ", ".join(f"{c:+.2f}" for c in u) + f") [weight {n:.2f}]"
 
 
+#: A centre coordinate closer than this to the search box edge counts as on the bound, m.
+BOUND_MARGIN_M = 0.001
+
+
 def fit_spherical(
     data: SphericalData,
     *,
@@ -155,7 +160,17 @@ def fit_spherical(
             spherical_jacobian(x, data) @ M, r, noise_floor=options.noise_floor_mps2, param_map=M
         )
     messages: list[str] = []
-    if report.weakest_std > options.center_std_tol_m:
+    if np.any(np.abs(x) >= options.center_bound_m - BOUND_MARGIN_M):
+        # a solution on the search box is no least-squares optimum: its spread means nothing
+        report = replace(report, weakest_std=float("inf"))
+        if np.isfinite(options.center_std_tol_m):  # not a quiet internal fit
+            messages.append(
+                f"{joint}: the joint centre ran into the search box (±{options.center_bound_m:g} m from a "
+                f"sensor) and is not determined by the data; record motion that rotates both segments "
+                f"about several axes, or check that the {parent_sensor} and {child_sensor} sensors are on "
+                f"adjacent segments"
+            )
+    elif report.weakest_std > options.center_std_tol_m:
         v = report.weakest_direction
         std_text = (
             f"±{report.weakest_std * 1000:.0f} mm"
