@@ -10,10 +10,12 @@ The :mod:`lowerlimb.gait` stages, fed with what the calibration knows:
    pelvis's; the trajectory is carried to the calibrated ankle centre
    (``sensor_to_ankle_m`` = the ankle centre in that foot's sensor frame);
 3. the :class:`~lowerlimb.gait.FootAnchor` from the calibrated chain: the right minus
-   left ankle centre by forward kinematics (pelvis sensor frame, ``hip_to_ankle`` plus
-   the hip centre), turned into the earth frame with the pelvis orientation, at the
-   last double-support instant (both feet stationary) before the first initial
-   contact, in the walking coordinates of the left foot's next stride;
+   left ankle centre (pelvis sensor frame: the hip centre plus ``hip_to_ankle``; a leg
+   standing before the first step and tilted beyond
+   :attr:`GaitParams.max_standing_leg_tilt_deg` is taken as vertical),
+   turned into the earth frame with the pelvis orientation, at the last double-support
+   instant (both feet stationary) before the first initial contact, in the walking
+   coordinates of the left foot's next stride;
 4. :func:`~lowerlimb.gait.compute_gait_parameters`.
 """
 
@@ -140,11 +142,20 @@ def chain_anchor(
     if cand.size == 0:
         return None
     k = int(cand[-1])
-    ankle = {
-        s: np.asarray(r.calibration.hip.center_in_parent_sensor, dtype=float) + r.positions_m[k, 3:6]
-        for s, r in legs.items()
-    }
-    d = quat_to_matrix(legs["left"].motion.sensor_quat_wxyz["pelvis"][k]) @ (ankle["right"] - ankle["left"])
+    standing = k < first_ic * rate  # both feet down before the first step
+    R_pelvis = quat_to_matrix(legs["left"].motion.sensor_quat_wxyz["pelvis"][k])
+    down = R_pelvis.T @ np.array([0.0, 0.0, -1.0])  # the vertical in the pelvis sensor frame
+    ankle = {}
+    for s, r in legs.items():
+        leg = r.positions_m[k, 3:6]
+        tilt = np.degrees(np.arccos(np.clip(leg @ down / max(float(np.linalg.norm(leg)), 1e-9), -1.0, 1.0)))
+        if standing and tilt > params.max_standing_leg_tilt_deg:
+            # a standing leg this far from vertical is a calibration error (a poorly determined
+            # hip or knee centre turns the thigh or shank in its sensor), not a posture: take
+            # the leg as vertical, so the ankles are offset like the hips
+            leg = (leg @ down) * down
+        ankle[s] = np.asarray(r.calibration.hip.center_in_parent_sensor, dtype=float) + leg
+    d = R_pelvis @ (ankle["right"] - ankle["left"])
     cl = foot_contacts(
         trajectories["left"], events.left.initial_contact_s, np.zeros(3), 0.5 * params.max_stride_time_s
     )

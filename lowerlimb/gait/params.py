@@ -57,6 +57,10 @@ class GaitParams:
         pair_yaw_window_s: Standard deviation of the Gaussian kernel over which the heading
             between the two feet's trajectories is averaged, s (``inf``: one rotation for
             the whole walk).
+        max_standing_leg_tilt_deg: In the standing reference, a calibrated leg (hip to
+            ankle) tilted further than this from the vertical is taken as a calibration error
+            and replaced by the vertical when the feet are anchored to each other, deg
+            (people stand with their legs within a few degrees of vertical).
         sensor_to_ankle_m: Constant vector from the foot sensor to the ankle centre in
             the foot sensor frame, m (zeros: gait geometry on the sensor positions).
         max_ds_fraction: A double-support interval longer than this fraction of the
@@ -82,6 +86,7 @@ class GaitParams:
     gravity_mps2: float | None = None
     turn_heading_deg: float = 20.0
     pair_yaw_window_s: float = 10.0
+    max_standing_leg_tilt_deg: float = 15.0
     sensor_to_ankle_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     max_ds_fraction: float = 0.4
 
