@@ -38,9 +38,36 @@ def test_simulate_writes_trial_truth_and_tables(tmp_path, capsys):
     assert (tmp_path / "truth_positions.csv").read_text().startswith("time,pelvis_to_foot_x")
 
 
+def test_simulate_both_legs_writes_a_seven_imu_walk_and_its_truth(tmp_path, capsys):
+    from lowerlimb.io.bilateral_trial import BilateralTrial
+
+    out, truth = tmp_path / "t7.csv", tmp_path / "truth.json"
+    argv = ["simulate", "--side", "both", "--duration", "8", "--seed", "5", "--out", str(out)]
+    assert main([*argv, "--truth", str(truth)]) == 0
+    trial = BilateralTrial.from_csv(out)
+    assert trial.n_samples == 800 and "right_foot" in trial.acc and trial.mag is not None
+    t = json.loads(truth.read_text())
+    assert set(t["legs"]) == {"left", "right"} and set(t["legs"]["left"]["joints"]) == {
+        "hip",
+        "knee",
+        "ankle",
+    }
+    events = (tmp_path / "truth_events.csv").read_text().splitlines()
+    assert events[0] == "time,side,event" and {"left,initial_contact", "right,toe_off"} <= {
+        line.split(",", 1)[1] for line in events[1:]
+    }
+    gait = json.loads((tmp_path / "truth_gait.json").read_text())
+    assert gait["left"]["stride_time_s"]["mean"] > 0.9 and gait["step_width_m"]["mean"] > 0.0
+    assert np.loadtxt(tmp_path / "truth_angles.csv", delimiter=",", skiprows=1).shape == (800, 19)
+    assert (tmp_path / "truth_positions.csv").read_text().startswith("time,left_pelvis_to_foot_x")
+
+
 @pytest.mark.parametrize(
     "argv, message",
     [
+        (["simulate", "--side", "both", "--motion", "squat", "--out", "x.csv"], "walking only"),
+        (["simulate", "--side", "both", "--artefacts", "real", "--out", "x.csv"], "rigidly mounted"),
+        (["simulate", "--side", "both", "--duration", "4", "--out", "x.csv"], "at least 6 s"),
         (["simulate", "--motion", "jog", "--out", "x.csv"], "invalid choice: 'jog'"),
         (["simulate", "--duration", "-3", "--out", "x.csv"], "must be positive"),
         (["simulate", "--out", "missing_dir/x.csv"], "does not exist"),
