@@ -409,12 +409,7 @@ def _truth(
         "duration_s": duration_s,
         "height_m": height_m,
         "mass_kg": mass_kg,
-        "noise": {
-            "gyr_std_rps": noise.gyr_std_rps,
-            "acc_std_mps2": noise.acc_std_mps2,
-            "gyr_bias_rps": noise.gyr_bias_rps,
-            "mag_std_ut": noise.mag_std_ut,
-        },
+        "noise": noise.to_dict(),
         "gyr_bias": {k: v.tolist() for k, v in bias.items()},
         "events": {
             s: {

@@ -31,6 +31,15 @@ class ImuNoise:
         """Noise-free, bias-free signals."""
         return cls(0.0, 0.0, 0.0, 0.0)
 
+    def to_dict(self) -> dict[str, float]:
+        """The four noise levels by name (truth files record them)."""
+        return {
+            "gyr_std_rps": self.gyr_std_rps,
+            "acc_std_mps2": self.acc_std_mps2,
+            "gyr_bias_rps": self.gyr_bias_rps,
+            "mag_std_ut": self.mag_std_ut,
+        }
+
 
 @dataclass(frozen=True)
 class SoftTissue:

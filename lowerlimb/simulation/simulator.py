@@ -488,12 +488,7 @@ def _truth(
             "duration_s": duration_s,
             "height_m": height_m,
             "mass_kg": mass_kg,
-            "noise": {
-                "gyr_std_rps": noise.gyr_std_rps,
-                "acc_std_mps2": noise.acc_std_mps2,
-                "gyr_bias_rps": noise.gyr_bias_rps,
-                "mag_std_ut": noise.mag_std_ut,
-            },
+            "noise": noise.to_dict(),
             "soft_tissue_m_per_rad": sta.amplitude_m_per_rad if sta is not None else 0.0,
             "gyr_bias": {sensor: bias[sensor].tolist() for sensor in SENSORS},
             "urdf": true_model.to_urdf_string(),
