@@ -88,6 +88,32 @@ def _event_errors(true_s: np.ndarray, est_s: np.ndarray) -> tuple[list[float], i
     return errs, missed
 
 
+#: Calibrated joint quantities scored against the truth: (joint, key, label).
+JOINT_QUANTITIES = (
+    ("hip", "center_in_parent_sensor", "hip in pelvis sensor, mm"),
+    ("hip", "center_in_child_sensor", "hip in thigh sensor, mm"),
+    ("ankle", "center_in_parent_sensor", "ankle in shank sensor, mm"),
+    ("ankle", "center_in_child_sensor", "ankle in foot sensor, mm"),
+    ("knee", "axis_in_parent_sensor", "knee axis, deg"),
+)
+
+
+def _joint_errors(res: Any, truth: dict[str, Any]) -> dict[str, list[float]]:
+    """Per quantity of :data:`JOINT_QUANTITIES`, the error of each leg (mm, or deg for the axis)."""
+    out: dict[str, list[float]] = {}
+    for joint, key, label in JOINT_QUANTITIES:
+        errs = []
+        for side in SIDES:
+            est = np.asarray(res.calibration_dict()["legs"][side]["joints"][joint][key], dtype=float)
+            tru = np.asarray(truth["legs"][side]["joints"][joint][key], dtype=float)
+            if "axis" in key:
+                errs.append(float(np.degrees(np.arccos(np.clip(abs(est @ tru), -1.0, 1.0)))))
+            else:
+                errs.append(1000.0 * float(np.linalg.norm(est - tru)))
+        out[label] = errs
+    return out
+
+
 def score_simulation(seed: int, duration_s: float) -> dict[str, Any]:
     """One simulated walk through the two-leg pipeline, scored against its truth."""
     sim = simulate_bilateral(duration_s, seed)
@@ -126,6 +152,7 @@ def score_simulation(seed: int, duration_s: float) -> dict[str, Any]:
     out["angle_rmse_deg"] = {
         side: {name: float(rmse[9 * i + k]) for k, name in enumerate(ANGLES)} for i, side in enumerate(SIDES)
     }
+    out["joint_err"] = _joint_errors(res, sim.truth)
     c_true = {s: np.asarray(sim.truth["legs"][s]["joints"]["hip"]["center_in_parent_sensor"]) for s in SIDES}
     out["hip_spacing_err_mm"] = 1000.0 * (
         res.hips.spacing_m - float(np.linalg.norm(c_true["right"] - c_true["left"]))
@@ -153,6 +180,10 @@ def summarise_simulation(trials: list[dict[str, Any]]) -> dict[str, Any]:
     }
     pooled["angle_rmse_deg"] = {"median": median, "worst": worst}
     pooled["hip_spacing_err_mm"] = _stats([tr["hip_spacing_err_mm"] for tr in trials])
+    pooled["joints"] = {
+        label: _stats([e for tr in trials for e in tr["joint_err"][label]])
+        for _, _, label in JOINT_QUANTITIES
+    }
     return pooled
 
 
@@ -197,6 +228,10 @@ def markdown(res: dict[str, Any]) -> str:
             f"| {key} | {st['n']} | {_fmt(st['median_abs'], unit)} | {_fmt(st['worst_abs'], unit)} | "
             f"{_fmt(st['bias'], unit)} | {'' if goal is None else f'≤ {goal:g}{unit} median'} | {met} |"
         )
+    L += ["", "Calibrated joints of both legs against the truth (all legs of all trials):", ""]
+    L += ["| quantity | n | median | worst |", "|---|---|---|---|"]
+    for label, st in s["joints"].items():
+        L.append(f"| {label} | {st['n']} | {_fmt(st['median_abs'])} | {_fmt(st['worst_abs'])} |")
     L += ["", "Angle RMSE, degrees (median over trials / worst trial):", ""]
     L += ["| side | " + " | ".join(ANGLES) + " |", "|---|" + "---|" * len(ANGLES)]
     for side in SIDES:
