@@ -29,13 +29,15 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import ArrayLike
 
+import solvers
 from lowerlimb.calibration._prepare import prepare_pair
 from lowerlimb.calibration._rotation import low_rotation_messages
 from lowerlimb.calibration._solve import LsqProblem, solve_global, solve_local, subsample_step
-from lowerlimb.calibration.excitation import issue_warnings, jacobian_report
+from lowerlimb.calibration.excitation import correlation_time, issue_warnings, jacobian_report
 from lowerlimb.calibration.geometry import basis_with_first_axis
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import SphericalJointCalibration
+from lowerlimb.calibration.segment_prior import CenterPrior
 from lowerlimb.constraints.spherical import (
     AXIS_GAUGE_MAP,
     SphericalData,
@@ -46,6 +48,7 @@ from lowerlimb.constraints.spherical import (
     spherical_sample_function,
 )
 from lowerlimb.conventions import FloatArray
+from lowerlimb.errors import SolverError
 
 __all__ = ["estimate_joint_center", "calibrate_spherical_joint", "fit_spherical"]
 
@@ -98,6 +101,60 @@ def _direction_text(v: FloatArray) -> str:
     return "(" + ", ".join(f"{c:+.2f}" for c in u) + f") [weight {n:.2f}]"
 
 
+def _map_refine(
+    data: SphericalData, x0: FloatArray, prior: CenterPrior, options: CalibrationOptions
+) -> FloatArray:
+    """The MAP centres: eq. 7 plus the prior's rows, by NumPy Gauss–Newton.
+
+    The prior rows are scaled by the data's noise per independent sample, σ √τ
+    (σ: RMS residual of the data-only fit, floored at ``noise_floor_mps2``; τ: its
+    correlation time), so that ``Σ e² + σ²τ ‖W (c − μ)‖²`` is (σ²τ times) the
+    negative log posterior. Starts: the data-only solution, and the same with the
+    prior's centre put at the prior mean; the lower MAP cost wins.
+
+    Args:
+        data: the pair's prepared signals.
+        x0: (6,) data-only solution ``(c_P, c_C)``, sensor frames, m.
+        prior: the prior on one of the two centres.
+        options: calibration options (solver limits, noise floor, search box).
+
+    Returns:
+        (6,) MAP ``(c_P, c_C)``, m.
+    """
+    r0 = spherical_residual(x0, data)
+    sigma = max(float(np.sqrt(np.mean(r0**2))), options.noise_floor_mps2)
+    scale = options.prior_weight * sigma * float(np.sqrt(correlation_time(r0)))
+
+    def residual(x: FloatArray) -> FloatArray:
+        return np.concatenate([spherical_residual(x, data), prior.rows(x, scale)[0]])
+
+    def jacobian(x: FloatArray) -> FloatArray:
+        return np.vstack([spherical_jacobian(x, data), prior.rows(x, scale)[1]])
+
+    b = options.center_bound_m
+    x_alt = prior.selector().T @ (prior.mean - prior.selector() @ x0) + x0
+    best, best_cost = x0, float("inf")
+    for start in (x0, np.clip(x_alt, -b, b)):
+        try:
+            res = solvers.gauss_newton(
+                residual,
+                jacobian,
+                start,
+                max_iter=options.max_iter,
+                tol=options.tol,
+                step="line_search",
+                lower=np.full(6, -b),
+                upper=np.full(6, b),
+            )
+        except (solvers.SolverError, RuntimeError, ValueError) as e:
+            raise SolverError(f"the MAP refinement failed: {e}", method="gn") from e
+        x = np.asarray(res.x, dtype=float)
+        cost = float(np.sum(residual(x) ** 2))
+        if cost < best_cost:
+            best, best_cost = x, cost
+    return best
+
+
 #: A centre coordinate closer than this to the search box edge counts as on the bound, m.
 BOUND_MARGIN_M = 0.001
 
@@ -111,6 +168,7 @@ def fit_spherical(
     parent_sensor: str = "parent",
     child_sensor: str = "child",
     gauge_axes: tuple[FloatArray, FloatArray] | None = None,
+    prior: CenterPrior | None = None,
 ) -> SphericalJointCalibration:
     """Solve eq. 7 on prepared signals and attach the excitation diagnostics.
 
@@ -125,6 +183,9 @@ def fit_spherical(
             point of the axis nearest the sensors (eq. 16), see
             :func:`~lowerlimb.constraints.spherical.spherical_axis_gauge_sample_function`
             (five parameters; the covariance is mapped back to the six coordinates).
+        prior: a weak Gaussian prior on one of the two centres (not with
+            ``gauge_axes``): the data-only solution is refined by the MAP problem
+            (:func:`_map_refine`). The excitation report stays the data's own.
 
     Returns:
         The joint result; warnings are issued and recorded.
@@ -147,6 +208,8 @@ def fit_spherical(
         result = solve_global(problem, method, options)
     if gauge_axes is None:
         x = np.asarray(result.x, dtype=float).copy()
+        if prior is not None:
+            x = _map_refine(data, x, prior, options)
         r = spherical_residual(x, data)
         report = jacobian_report(spherical_jacobian(x, data), r, noise_floor=options.noise_floor_mps2)
     else:

@@ -36,6 +36,7 @@ from lowerlimb.calibration.hinge_joint import fit_hinge_joint
 from lowerlimb.calibration.joint_center import fit_spherical
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
+from lowerlimb.calibration.segment_prior import CenterPrior, center_prior, segment_up
 from lowerlimb.conventions import JOINT_SENSORS, SENSORS, FloatArray
 from lowerlimb.errors import InputError
 from lowerlimb.stillness import StillPeriod
@@ -71,6 +72,8 @@ class LegCalibration:
         cutoff_hz: ``{sensor: Hz or None}`` prefilter cut-offs.
         rigid_band_cap_hz: ``{"parent-child": Hz or None}`` the cap the rigid band
             of each joint's sensor pair put on its cut-offs (``None``: no cap).
+        priors: ``{"hip"|"ankle": {"on", "mean", "std_m"}}`` the anthropometric
+            priors used (:mod:`~lowerlimb.calibration.segment_prior`; empty: none).
     """
 
     side: str
@@ -83,6 +86,7 @@ class LegCalibration:
     still_s: float = 0.0
     cutoff_hz: dict[str, float | None] = field(default_factory=dict)
     rigid_band_cap_hz: dict[str, float | None] = field(default_factory=dict)
+    priors: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     @property
     def joints(self) -> dict[str, SphericalJointCalibration | HingeJointCalibration]:
@@ -108,6 +112,7 @@ class LegCalibration:
             "rigid_band_cap_hz": {
                 k: (None if v is None else float(v)) for k, v in self.rigid_band_cap_hz.items()
             },
+            "anthropometric_prior": dict(self.priors),
             "warnings": self.warnings,
         }
 
@@ -136,9 +141,64 @@ class LegCalibration:
                 still_s=float(d.get("still_period_s", 0.0)),
                 cutoff_hz=dict(d.get("prefilter_cutoff_hz", {})),
                 rigid_band_cap_hz=dict(d.get("rigid_band_cap_hz", {})),
+                priors=dict(d.get("anthropometric_prior", {})),
             )
         except KeyError as e:
             raise InputError(f"calibration document lacks the key {e.args[0]!r}") from None
+
+
+def leg_priors(
+    knee: HingeJointCalibration, acc: dict[str, FloatArray], n_still: int, options: CalibrationOptions
+) -> tuple[CenterPrior | None, CenterPrior | None]:
+    """The anthropometric priors of the hip in the thigh sensor and the ankle in the shank sensor.
+
+    Args:
+        knee: the calibrated knee (axis and centre in the thigh and shank sensors).
+        acc: ``{sensor: (N, 3)}`` accelerometers, sensor frames, m/s².
+        n_still: samples of the standing start (0: none, no prior).
+        options: the prior's stature, length fractions and spreads.
+
+    Returns:
+        ``(hip prior on the child, ankle prior on the parent)``; ``None`` where the
+        standing direction is unknown.
+    """
+    if n_still < 1:
+        return None, None
+    out: list[CenterPrior | None] = []
+    for sensor, axis, center, length, on_child in (
+        (
+            "thigh",
+            knee.axis.axis_in_parent_sensor,
+            knee.center.center_in_parent_sensor,
+            options.thigh_length_per_stature,
+            True,
+        ),
+        (
+            "shank",
+            knee.axis.axis_in_child_sensor,
+            knee.center.center_in_child_sensor,
+            -options.shank_length_per_stature,
+            False,
+        ),
+    ):
+        up = segment_up(acc[sensor][:n_still].mean(axis=0), axis)
+        if up is None:
+            out.append(None)
+            continue
+        L = length * options.prior_stature_m
+        out.append(
+            center_prior(
+                center,
+                axis,
+                up,
+                L,
+                std_along_m=options.prior_std_along * abs(L),
+                std_across_m=options.prior_std_across_m,
+                std_axis_m=options.prior_std_axis_m,
+                on_child=on_child,
+            )
+        )
+    return out[0], out[1]
 
 
 def calibrate_leg(
@@ -202,24 +262,35 @@ def calibrate_leg(
 
     caps: dict[str, float | None] = {}
     p, c, _ = JOINT_SENSORS["hip"]
-    data = joint_signals(acc, gyr, sig, p, c, opts, caps)
-    hip = fit_spherical(data, method=method, options=opts, joint="hip", parent_sensor=p, child_sensor=c)
-    p, c, _ = JOINT_SENSORS["ankle"]
-    ankle_data = joint_signals(acc, gyr, sig, p, c, opts, caps)
-    ankle = fit_spherical(
-        ankle_data, method=method, options=opts, joint="ankle", parent_sensor=p, child_sensor=c
-    )
+    hip_data = joint_signals(acc, gyr, sig, p, c, opts, caps)
+    pa, ca, _ = JOINT_SENSORS["ankle"]
+    ankle_data = joint_signals(acc, gyr, sig, pa, ca, opts, caps)
     near = [v for v in caps.values() if v is not None]
-    p, c, _ = JOINT_SENSORS["knee"]
+    pk, ck, _ = JOINT_SENSORS["knee"]
     knee = fit_hinge_joint(
-        joint_signals(acc, gyr, sig, p, c, opts, caps, min(near) if near else None, own_band=False),
+        joint_signals(acc, gyr, sig, pk, ck, opts, caps, min(near) if near else None, own_band=False),
         rate_hz=rate,
         method=method,
         options=opts,
         n_still=sig.n_still,
         joint="knee",
-        parent_sensor=p,
-        child_sensor=c,
+        parent_sensor=pk,
+        child_sensor=ck,
+    )
+    hip_prior, ankle_prior = (
+        leg_priors(knee, acc, sig.n_still, opts) if opts.anthropometric_prior else (None, None)
+    )
+    hip = fit_spherical(
+        hip_data, method=method, options=opts, joint="hip", parent_sensor=p, child_sensor=c, prior=hip_prior
+    )
+    ankle = fit_spherical(
+        ankle_data,
+        method=method,
+        options=opts,
+        joint="ankle",
+        parent_sensor=pa,
+        child_sensor=ca,
+        prior=ankle_prior,
     )
     runtime = time.perf_counter() - t0
     return LegCalibration(
@@ -233,4 +304,7 @@ def calibrate_leg(
         still_s=sig.n_still / rate,
         cutoff_hz=sig.cutoff_hz,
         rigid_band_cap_hz=caps,
+        priors={
+            name: pr.to_dict() for name, pr in (("hip", hip_prior), ("ankle", ankle_prior)) if pr is not None
+        },
     )

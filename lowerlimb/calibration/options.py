@@ -84,6 +84,24 @@ class CalibrationOptions:
         axis_std_tol_deg: warn when the hinge axis's standard deviation exceeds this, deg.
         min_rms_rate_rps: warn when a sensor's RMS angular rate is below this,
             rad/s (a segment that hardly rotates does not reveal the joint).
+        anthropometric_prior: add a weak Gaussian prior on the hip centre in the
+            thigh sensor and the ankle centre in the shank sensor (knee centre ±
+            de Leva segment length along the standing long axis;
+            :mod:`~lowerlimb.calibration.segment_prior`). It only decides the
+            directions the motion leaves undetermined (nearly straight walking).
+        prior_stature_m: stature that scales the prior's segment lengths, m.
+        thigh_length_per_stature: thigh (hip–knee) length over stature
+            (de Leva 1996 Table 4: 422.2 / 1741 mm).
+        shank_length_per_stature: shank (knee–ankle) length over stature
+            (de Leva 1996 Table 4: 434.0 / 1741 mm).
+        prior_std_along: the prior's standard deviation along the segment, as a
+            fraction of its length (adult spread of segment length over stature
+            plus the knee-centre gauge).
+        prior_std_across_m: its standard deviation across the segment, m (sensor
+            placement, the segment's curvature and a few degrees of standing tilt).
+        prior_std_axis_m: its standard deviation along the knee axis about the
+            sensor, m (the sensor sits on the skin, a segment radius from the bone).
+        prior_weight: multiplier of the prior's rows against the data's.
     """
 
     prefilter: bool = True
@@ -116,10 +134,21 @@ class CalibrationOptions:
     center_std_tol_m: float = 0.015
     axis_std_tol_deg: float = 1.0
     min_rms_rate_rps: float = 0.1
+    anthropometric_prior: bool = True
+    prior_stature_m: float = 1.75
+    thigh_length_per_stature: float = 422.2 / 1741.0
+    shank_length_per_stature: float = 434.0 / 1741.0
+    prior_std_along: float = 0.12
+    prior_std_across_m: float = 0.035
+    prior_std_axis_m: float = 0.06
+    prior_weight: float = 1.0
 
     def __post_init__(self) -> None:
         if self.angacc_window_s <= 0:
             raise InputError(f"angacc_window_s must be > 0 s, got {self.angacc_window_s}")
+        for name in ("prior_stature_m", "prior_std_along", "prior_std_across_m", "prior_std_axis_m"):
+            if getattr(self, name) <= 0:
+                raise InputError(f"{name} must be > 0, got {getattr(self, name)}")
         if self.center_bound_m <= 0:
             raise InputError(f"center_bound_m must be > 0 m, got {self.center_bound_m}")
         for name in (
