@@ -284,7 +284,8 @@ def process_trial(
             placements (e.g. from a walk or the "mixed" motion) instead of
             calibrating this trial; its gyro bias is re-measured on this trial.
         progress: print one line per stage on stderr.
-        calibration_options: joint-calibration options (e.g. ``check_sensor_order``).
+        calibration_options: joint-calibration options (e.g. ``check_sensor_order``);
+            their ``prior_stature_m`` is set to ``height_m``.
         side_check: refuse a trial whose calibrated hip lies on the other side of the
             pelvis sensor (:func:`~lowerlimb.calibration.plausibility.check_side`); made
             only when the trial starts standing (the pelvis frame's "right" comes from it).
@@ -302,7 +303,9 @@ def process_trial(
     reference = trial.reference_samples(still)
 
     clock.start()
-    calib = calibrate_joints(trial, method, still, calibration, calibration_options)
+    # the subject's stature scales the anthropometric prior of the calibration
+    cal_options = replace(calibration_options or CalibrationOptions(), prior_stature_m=height_m)
+    calib = calibrate_joints(trial, method, still, calibration, cal_options)
     up = {s: trial.acc[s][reference].mean(axis=0) for s in ("thigh", "shank")}
     calib = with_plausible_lengths(calib, up, height_m=height_m)
     clock.stop("joint calibration", "" if calibration is None else "reused, not estimated")
