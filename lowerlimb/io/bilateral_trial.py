@@ -24,6 +24,7 @@ from ..conventions import SENSORS, SIDES, FloatArray
 from ..errors import InputError, MissingColumnError, TooShortError
 from ..stillness import StillPeriod, detect_still_period
 from .recording import TWO_LEG_SENSORS
+from .time_axis import TimeAxis
 from .trial import MIN_DURATION_S, ImuTrial, column_names
 
 __all__ = ["LAYOUTS", "BilateralTrial", "read_header", "trial_layout", "with_file_names"]
@@ -83,7 +84,7 @@ def with_file_names(e: InputError, side: str) -> InputError:
 
 
 @dataclass
-class BilateralTrial:
+class BilateralTrial(TimeAxis):
     """A synchronous recording of the seven IMUs of a two-leg trial.
 
     Attributes:
@@ -100,21 +101,6 @@ class BilateralTrial:
     gyr: dict[str, FloatArray]
     mag: dict[str, FloatArray] | None = None
     source: str = field(default="", repr=False)
-
-    @property
-    def n_samples(self) -> int:
-        """Number of samples N."""
-        return int(self.time_s.shape[0])
-
-    @property
-    def rate_hz(self) -> float:
-        """Sampling rate, Hz (from the median time step)."""
-        return float(1.0 / np.median(np.diff(self.time_s)))
-
-    @property
-    def duration_s(self) -> float:
-        """Time span of the recording, s."""
-        return float(self.time_s[-1] - self.time_s[0])
 
     def leg(self, side: str) -> ImuTrial:
         """One leg as a single-leg :class:`ImuTrial`: ``pelvis`` and that side's thigh, shank, foot.

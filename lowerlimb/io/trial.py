@@ -27,6 +27,7 @@ from ..errors import (
     UnitError,
 )
 from ..stillness import StillPeriod, detect_still_period
+from .time_axis import TimeAxis
 
 #: Lowest sampling rate accepted, Hz: below it the time column is taken to be in ms.
 MIN_RATE_HZ = 5.0
@@ -71,7 +72,7 @@ def column_names(sensor: str, signal: str) -> list[str]:
 
 
 @dataclass
-class ImuTrial:
+class ImuTrial(TimeAxis):
     """A synchronous recording of the four leg IMUs.
 
     Attributes:
@@ -88,21 +89,6 @@ class ImuTrial:
     mag: dict[str, FloatArray] | None = None
     side: str = "left"
     source: str = field(default="", repr=False)
-
-    @property
-    def n_samples(self) -> int:
-        """Number of samples N."""
-        return int(self.time_s.shape[0])
-
-    @property
-    def rate_hz(self) -> float:
-        """Sampling rate, Hz (from the median time step)."""
-        return float(1.0 / np.median(np.diff(self.time_s)))
-
-    @property
-    def duration_s(self) -> float:
-        """Time span of the recording, s."""
-        return float(self.time_s[-1] - self.time_s[0])
 
     @property
     def has_mag(self) -> bool:
