@@ -88,3 +88,17 @@ def test_crossing_without_heel_rocker_is_not_a_contact():
     fast = np.where(t < 1.0, 2.0 * (1.0 - t), 4.0 * (1.0 - t))  # a heel rocker from t = 1 s
     (k,) = heel_rocker_onsets(fast, ms, rate, p)
     assert abs(k / rate - 1.0) < 0.5 / rate  # the 15 Hz low-pass rounds the kink
+
+
+def test_kinked_heel_rocker_is_retimed_on_the_finer_low_pass():
+    # slow toes-up swing that ends at the contact, then a steep heel rocker: a 15 Hz
+    # low-pass alone spreads the kink backwards and moves the crossing early
+    rate = 100.0
+    t = np.arange(300) / rate
+    tc = 1.503
+    kinked = np.where(t < tc, 0.8 * (tc - t), -12.0 * (t - tc))
+    ms = np.array([110])  # mid-swing 0.4 s before the contact
+    coarse = heel_rocker_onsets(kinked, ms, rate, GaitParams(ic_refine_lowpass_hz=15.0))
+    (k,) = heel_rocker_onsets(kinked, ms, rate, GaitParams())
+    assert abs(k / rate - tc) < 0.004
+    assert abs(coarse[0] / rate - tc) > 2.0 * abs(k / rate - tc)  # what the re-timing corrects

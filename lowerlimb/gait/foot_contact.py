@@ -29,6 +29,11 @@ Choices the papers leave open, stated here:
 * a crossing counts only when ω_f then falls below ``-event_min_rps`` within
   :attr:`GaitParams.heel_rocker_s` (a real heel rocker, not noise about zero in
   a slow swing);
+* the crossing is found on the rate low-passed at :attr:`GaitParams.sagittal_lowpass_hz`
+  (robust against noise about zero) and then re-timed to the nearest crossing of the
+  rate low-passed at :attr:`GaitParams.ic_refine_lowpass_hz` within
+  :attr:`GaitParams.ic_refine_s`: the heel rocker begins with a kink that a low
+  cut-off spreads backwards in time;
 * sub-sample timing: linear interpolation between the two samples that straddle zero.
 """
 
@@ -82,13 +87,17 @@ def heel_rocker_onsets(
         rate_hz: Sampling rate, Hz.
         params: Thresholds (:attr:`~GaitParams.sagittal_lowpass_hz`,
             :attr:`~GaitParams.ic_search_s`, :attr:`~GaitParams.heel_rocker_s`,
-            :attr:`~GaitParams.event_min_rps`, :attr:`~GaitParams.max_stride_time_s`).
+            :attr:`~GaitParams.event_min_rps`, :attr:`~GaitParams.max_stride_time_s`,
+            :attr:`~GaitParams.ic_refine_lowpass_hz`, :attr:`~GaitParams.ic_refine_s`).
 
     Returns:
         Increasing fractional sample indices of the positive-to-negative zero
         crossings of the low-passed ``foot_omega_rps`` that start a heel rocker.
     """
-    w = lowpass(np.asarray(foot_omega_rps, dtype=float), params.sagittal_lowpass_hz, rate_hz)
+    raw = np.asarray(foot_omega_rps, dtype=float)
+    w = lowpass(raw, params.sagittal_lowpass_hz, rate_hz)
+    fine = lowpass(raw, params.ic_refine_lowpass_hz, rate_hz)
+    n_ref = samples(params.ic_refine_s, rate_hz)
     n = w.shape[0]
     n_ic = samples(params.ic_search_s, rate_hz)
     n_rock = samples(params.heel_rocker_s, rate_hz)
@@ -101,6 +110,21 @@ def heel_rocker_onsets(
         cross = k[(w[k] > 0.0) & (w[k + 1] <= 0.0)]
         for c in cross:
             if np.min(w[c + 1 : min(c + 1 + n_rock, n)]) < -params.event_min_rps:
-                out.append(float(c) + float(w[c] / (w[c] - w[c + 1])))
+                out.append(_retime(fine, float(c) + float(w[c] / (w[c] - w[c + 1])), n_ref))
                 break
     return out
+
+
+def _crossings(w: FloatArray, lo: int, hi: int) -> FloatArray:
+    """Fractional indices of the positive-to-non-positive crossings of ``w`` in [lo, hi)."""
+    lo, hi = max(lo, 0), min(hi, w.shape[0] - 1)
+    k = np.arange(lo, hi)
+    k = k[(w[k] > 0.0) & (w[k + 1] <= 0.0)]
+    return k + w[k] / (w[k] - w[k + 1])
+
+
+def _retime(fine: FloatArray, coarse: float, half: int) -> float:
+    """The crossing of ``fine`` nearest ``coarse`` within ``half`` samples, else ``coarse``."""
+    c = _crossings(fine, int(coarse) - half, int(coarse) + half + 1)
+    c = c[np.abs(c - coarse) <= half]
+    return float(c[np.argmin(np.abs(c - coarse))]) if c.size else coarse
