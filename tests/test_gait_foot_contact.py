@@ -65,7 +65,7 @@ def test_foot_mounting_sign_does_not_matter(sign):
     assert np.max(np.abs(ev.initial_contact_s - contact)) <= 0.01
 
 
-def test_toe_off_still_from_shank_and_both_legs():
+def test_toe_off_without_unloading_from_shank_and_both_legs():
     shank, foot, acc, _, _, to = _trial(100.0)
     ev = detect_gait_events(
         100.0, left_shank_gyr=shank, left_foot_gyr=foot, left_foot_acc=acc, right_shank_gyr=shank

@@ -2,8 +2,10 @@
 
 With a foot IMU, initial contact (IC) is the onset of the foot's heel rocker, the
 swing-to-stance zero crossing of the foot's sagittal rate
-(:mod:`lowerlimb.gait.foot_contact`); without one, IC is the shank minimum below.
-Toe-off (TO) and mid-swing always come from the shank.
+(:mod:`lowerlimb.gait.foot_contact`), and toe-off (TO) is the forefoot's unloading
+in the foot's specific force (:mod:`lowerlimb.gait.toe_off`); without one, or in a
+stride where the foot shows no unloading, they are the shank minima below.
+Mid-swing always comes from the shank.
 
 Shank method of Salarian et al. 2004 ("Gait assessment in Parkinson's disease:
 toward an ambulatory system for long-term monitoring", IEEE TBME 51(8)),
@@ -38,6 +40,7 @@ from lowerlimb.gait.foot_contact import foot_sagittal_rate, heel_rocker_onsets
 from lowerlimb.gait.params import GaitParams, samples
 from lowerlimb.gait.sagittal import SagittalRate, sagittal_rate
 from lowerlimb.gait.stationary import StationaryPeriods, detect_stationary
+from lowerlimb.gait.toe_off import forefoot_unloading
 
 __all__ = ["GaitEvents", "SideEvents", "detect_gait_events", "detect_side_events"]
 
@@ -58,6 +61,9 @@ class SideEvents:
             without a foot IMU).
         ic_method: ``"foot_heel_rocker"`` (foot gyro zero crossing) or
             ``"shank_minimum"`` (Aminian/Salarian fallback without a foot IMU).
+        toe_off_from_foot: (M,) for each toe-off, ``True`` when it is the forefoot's
+            unloading (:mod:`lowerlimb.gait.toe_off`), ``False`` when the shank minimum
+            (no foot IMU, or no unloading in that stride).
     """
 
     side: str
@@ -69,6 +75,7 @@ class SideEvents:
     start_time_s: float = 0.0
     foot_sagittal: SagittalRate | None = None
     ic_method: str = "shank_minimum"
+    toe_off_from_foot: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
 
 
 @dataclass(frozen=True)
@@ -111,6 +118,50 @@ def _refine(x: FloatArray, k: int) -> float:
     return float(k) if abs(den) < 1e-12 else float(k + 0.5 * (a - c) / den)
 
 
+def _shank_minima(
+    om: FloatArray, ms: np.ndarray, rate_hz: float, p: GaitParams
+) -> tuple[list[float], list[float | None], list[tuple[int, int]]]:
+    """Shank IC and TO (fractional samples) around each mid-swing peak, and the TO search windows.
+
+    Returns:
+        ``(ic, to, windows)``: the initial contacts found; one toe-off per mid-swing peak
+        (``None`` when none); the half-open ``[lo, hi)`` toe-off search window of each peak.
+    """
+    n_ic, n_to = samples(p.ic_search_s, rate_hz), samples(p.to_search_s, rate_hz)
+    half = samples(0.5 * p.max_stride_time_s, rate_hz)
+    ic: list[float] = []
+    to: list[float | None] = []
+    windows: list[tuple[int, int]] = []
+    for j, m in enumerate(ms):
+        nxt = ms[j + 1] if j + 1 < ms.size else om.shape[0]
+        prv = ms[j - 1] if j > 0 else 0
+        cand = _local_minima(om, m + 1, min(m + 1 + n_ic, nxt, m + half), -p.event_min_rps)
+        if cand.size:
+            ic.append(_refine(om, int(cand[0])))
+        lo = max(m - n_to, prv + 1, m - half)
+        windows.append((int(lo), int(m)))
+        cand = _local_minima(om, lo, m, -p.event_min_rps)
+        to.append(_refine(om, int(cand[np.argmin(om[cand])])) if cand.size else None)
+    return ic, to, windows
+
+
+def _merge_toe_offs(foot: list[float | None], shank: list[float | None]) -> tuple[list[float], list[bool]]:
+    """Per stride the foot's toe-off, else the shank's; strides with neither are dropped.
+
+    Returns:
+        ``(toe_offs, from_foot)``: fractional samples and, for each, whether the foot gave it.
+    """
+    times, flags = [], []
+    for f, s in zip(foot, shank, strict=True):
+        if f is not None:
+            times.append(f)
+            flags.append(True)
+        elif s is not None:
+            times.append(s)
+            flags.append(False)
+    return times, flags
+
+
 def detect_side_events(
     shank_gyr: ArrayLike,
     rate_hz: float,
@@ -149,20 +200,10 @@ def detect_side_events(
     ms, _ = find_peaks(om_ms, height=p.midswing_min_rps, distance=samples(p.min_stride_time_s, rate_hz))
     if ms.size == 0:
         raise NoGaitCyclesError(side, float(np.max(om_ms)), p.midswing_min_rps)
-    n_ic, n_to = samples(p.ic_search_s, rate_hz), samples(p.to_search_s, rate_hz)
-    half = samples(0.5 * p.max_stride_time_s, rate_hz)
-    ic, to = [], []
-    for j, m in enumerate(ms):
-        nxt = ms[j + 1] if j + 1 < ms.size else w.shape[0]
-        prv = ms[j - 1] if j > 0 else 0
-        cand = _local_minima(om, m + 1, min(m + 1 + n_ic, nxt, m + half), -p.event_min_rps)
-        if cand.size:
-            ic.append(_refine(om, int(cand[0])))
-        cand = _local_minima(om, max(m - n_to, prv + 1, m - half), m, -p.event_min_rps)
-        if cand.size:
-            to.append(_refine(om, int(cand[np.argmin(om[cand])])))
+    ic, to, windows = _shank_minima(om, ms, rate_hz, p)
     stationary = foot_sag = None
     ic_method = "shank_minimum"
+    from_foot: list[float | None] = [None] * len(to)
     if foot_gyr is not None:
         fg = as_signal(foot_gyr, "foot_gyr", w.shape[0])
         fa = as_signal(foot_acc if foot_acc is not None else np.zeros((0, 3)), "foot_acc", w.shape[0])
@@ -170,16 +211,19 @@ def detect_side_events(
         foot_sag = foot_sagittal_rate(fg, sag.omega_rps, rate_hz, p)
         ic = heel_rocker_onsets(foot_sag.omega_rps, ms, rate_hz, p)
         ic_method = "foot_heel_rocker"
+        from_foot = forefoot_unloading(foot_sag.omega_rps, fa, windows, rate_hz, p)
+    to_s, to_foot = _merge_toe_offs(from_foot, to)
     return SideEvents(
         side=side,
         initial_contact_s=start_time_s + np.asarray(ic, dtype=float) / rate_hz,
-        toe_off_s=start_time_s + np.asarray(to, dtype=float) / rate_hz,
+        toe_off_s=start_time_s + np.asarray(to_s, dtype=float) / rate_hz,
         midswing_s=start_time_s + ms.astype(float) / rate_hz,
         sagittal=sag,
         stationary=stationary,
         start_time_s=start_time_s,
         foot_sagittal=foot_sag,
         ic_method=ic_method,
+        toe_off_from_foot=np.asarray(to_foot, dtype=bool),
     )
 
 

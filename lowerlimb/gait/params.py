@@ -48,6 +48,13 @@ class GaitParams:
             6 ms at 40 Hz; benchmarks/gait.py), Hz. Unchanged above Nyquist.
         ic_refine_s: Half-width of the window, around the coarse crossing, searched for the
             re-timed one, s.
+        unloading_lowpass_hz: With a foot IMU, toe-off is the last peak of the foot's
+            specific-force magnitude before the forefoot unloads
+            (:mod:`lowerlimb.gait.toe_off`); the magnitude is low-passed at this cut-off
+            first (unchanged at or below 100 Hz sampling), Hz.
+        unloading_min_mps2: The unloading counts only when the magnitude falls at least
+            this far below that peak (about a third of g; on the real walk of ``gait/``
+            it falls 10-17 m/s²), else toe-off comes from the shank, m/s².
         walking_gyro_rps: A sample counts as walking for the principal-axis fit when
             the smoothed shank gyro norm exceeds this, rad/s.
         shoe_window_s: Window of the SHOE detector (Skog et al. 2010, eq. 8), s.
@@ -86,6 +93,8 @@ class GaitParams:
     heel_rocker_s: float = 0.15
     ic_refine_lowpass_hz: float = 40.0
     ic_refine_s: float = 0.04
+    unloading_lowpass_hz: float = 50.0
+    unloading_min_mps2: float = 3.0
     walking_gyro_rps: float = 1.0
     shoe_window_s: float = 0.05
     shoe_sigma_acc_mps2: float = 0.5

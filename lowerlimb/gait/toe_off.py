@@ -1,0 +1,108 @@
+"""Toe-off from a foot IMU: the end of push-off, when the forefoot unloads.
+
+A foot IMU sits on the rearfoot or midfoot. In pre-swing the rearfoot rotates
+about the metatarsophalangeal joint while the toes stay on the floor, so the
+foot's plantarflexion rate peaks *before* the toe leaves (44-64 ms before
+Zeni et al. 2008's marker toe-off on the real walk of ``gait/``;
+benchmarks/gait_events.py), and its return to zero (the foot's largest
+plantarflexion) comes after it (57-66 ms). Neither rate feature is the event.
+The accelerometer sees the event itself: it measures the contact forces on the
+foot per unit mass, and in push-off the ground reaction under the forefoot
+raises the foot's specific force; when the toe leaves, that reaction vanishes
+and the specific force collapses within a few tens of ms before the swing
+begins. Toe-off is taken as the last peak of the specific-force magnitude
+before that collapse (the "foot acceleration feature" idea of Joshi, Nakamura
+& Hahn 2015, "A novel approach for toe off estimation during locomotion and
+transitions on ramps and level ground", IEEE J. Biomed. Health Inform. 20(1),
+which time toe-off from a foot accelerometer's wavelet features).
+
+Choices the paper leaves open, stated here:
+
+* the search is bracketed by the foot's sagittal-rate minimum before the shank's
+  mid-swing peak (the rearfoot's fastest plantarflexion) and the rate's next
+  negative-to-positive crossing (its largest plantarflexion), so the estimate
+  can never leave the interval the rate alone allows;
+* the collapse is the smallest specific-force magnitude in that bracket, and
+  counts only when it lies at least :attr:`GaitParams.unloading_min_mps2` below
+  the peak before it; otherwise the stride has no toe-off from the foot and the
+  caller falls back to the shank;
+* the magnitude is low-passed at :attr:`GaitParams.unloading_lowpass_hz`
+  (unchanged at 100 Hz), and the peak is refined by a parabola through it and its
+  neighbours.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lowerlimb.conventions import FloatArray
+from lowerlimb.gait._signal import lowpass
+from lowerlimb.gait.params import GaitParams
+
+__all__ = ["forefoot_unloading"]
+
+
+def _parabola(x: FloatArray, k: int) -> float:
+    """Sub-sample position of the extremum of ``x`` at ``k`` (parabola through k-1, k, k+1)."""
+    if k <= 0 or k >= x.shape[0] - 1:
+        return float(k)
+    a, b, c = x[k - 1], x[k], x[k + 1]
+    den = a - 2.0 * b + c
+    return float(k) if abs(den) < 1e-12 else float(k + 0.5 * (a - c) / den)
+
+
+def _bracket(w: FloatArray, lo: int, hi: int, min_rps: float) -> tuple[int, int] | None:
+    """(rate minimum, next negative-to-positive crossing) of ``w`` in [lo, hi), or ``None``."""
+    if hi - lo < 3:
+        return None
+    k = lo + int(np.argmin(w[lo:hi]))
+    if w[k] >= -min_rps:
+        return None
+    j = np.arange(k, hi - 1)
+    up = j[(w[j] < 0.0) & (w[j + 1] >= 0.0)]
+    return (k, int(up[0]) + 1) if up.size else None
+
+
+def forefoot_unloading(
+    foot_omega_rps: FloatArray,
+    foot_acc: FloatArray,
+    windows: list[tuple[int, int]],
+    rate_hz: float,
+    params: GaitParams,
+) -> list[float | None]:
+    """Toe-off of each search window as a fractional sample index (``None``: not found).
+
+    Args:
+        foot_omega_rps: (N,) foot sagittal rate, rad/s, swing positive (push-off negative;
+            :func:`~lowerlimb.gait.foot_contact.foot_sagittal_rate`).
+        foot_acc: (N, 3) foot specific force, sensor frame, m/s².
+        windows: Half-open sample ranges ``[lo, hi)`` ending at a mid-swing peak, one per
+            stride, in which toe-off is searched.
+        rate_hz: Sampling rate, Hz.
+        params: Thresholds (:attr:`~GaitParams.sagittal_lowpass_hz`,
+            :attr:`~GaitParams.event_min_rps`, :attr:`~GaitParams.unloading_lowpass_hz`,
+            :attr:`~GaitParams.unloading_min_mps2`).
+
+    Returns:
+        One entry per window: the peak of the specific-force magnitude before the
+        forefoot's unloading, or ``None`` when the window shows no push-off or no
+        unloading deeper than ``unloading_min_mps2``.
+    """
+    w = lowpass(np.asarray(foot_omega_rps, dtype=float), params.sagittal_lowpass_hz, rate_hz)
+    f = lowpass(
+        np.linalg.norm(np.asarray(foot_acc, dtype=float), axis=1), params.unloading_lowpass_hz, rate_hz
+    )
+    out: list[float | None] = []
+    for lo, hi in windows:
+        br = _bracket(w, max(lo, 0), min(hi, w.shape[0]), params.event_min_rps)
+        if br is None:
+            out.append(None)
+            continue
+        k, z = br
+        d = k + int(np.argmin(f[k : z + 1]))
+        if d <= k:
+            out.append(None)
+            continue
+        p = k + int(np.argmax(f[k:d]))
+        out.append(_parabola(f, p) if f[p] - f[d] >= params.unloading_min_mps2 else None)
+    return out

@@ -1,0 +1,60 @@
+"""Toe-off from the forefoot's unloading in the foot's specific force (lowerlimb.gait.toe_off)."""
+
+import numpy as np
+from test_gait_foot_contact import _trial
+
+from lowerlimb.gait import GaitParams, detect_side_events
+from lowerlimb.gait.toe_off import forefoot_unloading
+
+RATE = 100.0
+
+
+def _push_off(
+    n: int, t_min: float, t_off: float, t_zero: float, drop: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Foot rate with its push-off minimum at ``t_min`` and zero at ``t_zero``; |f| peaking at ``t_off``.
+
+    The specific force rises through push-off to a peak at ``t_off`` and then falls by
+    ``drop`` m/s² within 30 ms (the toe leaving), before the swing's own rise.
+    """
+    t = np.arange(n) / RATE
+    om = np.where(t < t_min, -6.0 * np.exp(-0.5 * ((t - t_min) / 0.08) ** 2), 0.0)
+    om += np.where(t >= t_min, -6.0 + 6.0 * np.clip((t - t_min) / (t_zero - t_min), 0.0, 2.0), 0.0)
+    f = 10.0 + (drop + 4.0) * np.exp(-0.5 * ((t - t_off) / 0.04) ** 2)
+    f -= (drop + 4.0) * np.exp(-0.5 * ((t - t_off - 0.03) / 0.012) ** 2) * (t > t_off)
+    acc = np.zeros((n, 3))
+    acc[:, 2] = f
+    return om, acc
+
+
+def test_toe_off_is_the_specific_force_peak_before_the_unloading():
+    om, acc = _push_off(300, t_min=1.00, t_off=1.053, t_zero=1.12, drop=12.0)
+    (k,) = forefoot_unloading(om, acc, [(60, 200)], RATE, GaitParams())
+    assert k is not None
+    assert abs(k / RATE - 1.053) < 0.006
+
+
+def test_no_unloading_no_push_off_gives_none():
+    om, acc = _push_off(300, t_min=1.00, t_off=1.053, t_zero=1.12, drop=12.0)
+    flat = np.tile([0.0, 0.0, 9.81], (300, 1))
+    assert forefoot_unloading(om, flat, [(60, 200)], RATE, GaitParams()) == [None]
+    slow = 0.02 * om  # the foot never plantarflexes faster than event_min_rps
+    assert forefoot_unloading(slow, acc, [(60, 200)], RATE, GaitParams()) == [None]
+    shallow = GaitParams(unloading_min_mps2=40.0)
+    assert forefoot_unloading(om, acc, [(60, 200)], RATE, shallow) == [None]
+
+
+def test_estimate_stays_between_rate_minimum_and_zero_crossing():
+    # a force peak long after the foot's plantarflexion has ended is not searched
+    om, acc = _push_off(300, t_min=1.00, t_off=1.30, t_zero=1.12, drop=12.0)
+    (k,) = forefoot_unloading(om, acc, [(60, 200)], RATE, GaitParams())
+    assert k is None or 1.0 <= k / RATE <= 1.13
+
+
+def test_side_events_take_the_foot_toe_off_and_flag_it():
+    shank, foot, acc, _, _, to = _trial(RATE)
+    ev = detect_side_events(shank, RATE, "left", foot_gyr=foot, foot_acc=acc)
+    # constant specific force: every toe-off falls back to the shank minimum
+    assert ev.toe_off_from_foot.shape == ev.toe_off_s.shape
+    assert not ev.toe_off_from_foot.any()
+    assert np.max(np.abs(ev.toe_off_s - to)) <= 0.01
