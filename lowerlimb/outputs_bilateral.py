@@ -37,7 +37,7 @@ __all__ = [
     "write_lower_body_urdf",
 ]
 
-#: The per-leg URDFs written until the one lower-body model is wired in (:func:`write_lower_body_urdf`).
+#: The single-leg URDFs written beside the lower-body model (:func:`write_lower_body_urdf`).
 LEG_URDF_FILES: dict[str, str] = {side: f"calibrated_{side}.urdf" for side in SIDES}
 
 

@@ -58,3 +58,17 @@ def test_side_events_take_the_foot_toe_off_and_flag_it():
     assert ev.toe_off_from_foot.shape == ev.toe_off_s.shape
     assert not ev.toe_off_from_foot.any()
     assert np.max(np.abs(ev.toe_off_s - to)) <= 0.01
+
+
+def test_gait_json_says_where_the_events_came_from():
+    from lowerlimb.gait import compute_gait_parameters, detect_gait_events
+
+    shank, foot, acc, _, _, _ = _trial(RATE)
+    ev = detect_gait_events(
+        RATE, left_shank_gyr=shank, left_foot_gyr=foot, left_foot_acc=acc, right_shank_gyr=shank
+    )
+    src = compute_gait_parameters(ev).to_dict()["event_sources"]
+    assert src["left"]["initial_contact"] == "foot_heel_rocker"
+    assert src["right"]["initial_contact"] == "shank_minimum"
+    assert src["left"]["toe_off_from_foot"] == 0
+    assert src["left"]["toe_off_from_shank"] == ev.left.toe_off_s.size > 0

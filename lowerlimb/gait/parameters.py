@@ -101,12 +101,16 @@ class GaitParameters:
             trajectory to align it with the left one, deg (NaN when not formed).
         anchored: Whether step length and width could be formed (a :class:`FootAnchor` was given).
         params: The thresholds used.
+        event_sources: ``{side: {"initial_contact": method, "toe_off_from_foot": n,
+            "toe_off_from_shank": n}}``: where each leg's events came from
+            (:class:`~lowerlimb.gait.events.SideEvents`).
     """
 
     strides: list[Stride]
     relative_heading_deg: float
     anchored: bool
     params: GaitParams = field(default_factory=GaitParams)
+    event_sources: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     def select(self, side: str | None = None, *, turning: bool = False) -> list[Stride]:
         """Strides of one leg (or both) that are (not) turning."""
@@ -154,6 +158,7 @@ class GaitParameters:
         out["turning"] = {side: self.summary(side, turning=True) for side in _SIDES}
         out["relative_heading_deg"] = self.relative_heading_deg
         out["anchored"] = self.anchored
+        out["event_sources"] = self.event_sources
         out["params"] = asdict(self.params)
         return out
 
@@ -391,6 +396,18 @@ def compute_gait_parameters(
                 )
             )
     strides.sort(key=lambda s: s.start_s)
+    sources = {
+        se.side: {
+            "initial_contact": se.ic_method,
+            "toe_off_from_foot": int(np.count_nonzero(se.toe_off_from_foot)),
+            "toe_off_from_shank": int(se.toe_off_s.size - np.count_nonzero(se.toe_off_from_foot)),
+        }
+        for se in events.sides()
+    }
     return GaitParameters(
-        strides=strides, relative_heading_deg=float(np.rad2deg(yaw)), anchored=anchored, params=p
+        strides=strides,
+        relative_heading_deg=float(np.rad2deg(yaw)),
+        anchored=anchored,
+        params=p,
+        event_sources=sources,
     )
