@@ -157,6 +157,20 @@ def stationary_scores(mask: np.ndarray, flags: np.ndarray) -> dict[str, float]:
     }
 
 
+def marker_temporal(own: dict[str, np.ndarray], other: dict[str, np.ndarray], a: int, b: int) -> dict:
+    """Stance and double support (% of the stride a→b) from the marker events, as in lowerlimb.gait."""
+    T = b - a
+    nan = float("nan")
+    to = own["toe_off"][(own["toe_off"] > a) & (own["toe_off"] < b)]
+    to_o = other["toe_off"][(other["toe_off"] > a) & (other["toe_off"] < b)]
+    out = {"stance_pct": 100.0 * (to[0] - a) / T if to.size else nan, "double_support_pct": nan}
+    if to.size and to_o.size:
+        ic_o = other["initial_contact"][(other["initial_contact"] > a) & (other["initial_contact"] < to[0])]
+        if ic_o.size:
+            out["double_support_pct"] = 100.0 * ((to_o[0] - a) + (to[0] - ic_o[-1])) / T
+    return out
+
+
 def vicon_strides(vicon: dict, ev: dict[str, dict[str, np.ndarray]], straight: np.ndarray) -> list[dict]:
     """Reference strides on the ankle centres at the marker initial contacts (lengths m)."""
     out = []
@@ -172,6 +186,7 @@ def vicon_strides(vicon: dict, ev: dict[str, dict[str, np.ndarray]], straight: n
             row = {
                 "side": side,
                 "start_s": a / RATE,
+                **marker_temporal(ev[side], ev[other], a, b),
                 "stride_time_s": (b - a) / RATE,
                 "stride_length_m": float(np.linalg.norm(A[b] - A[a])),
                 "straight": bool(straight[a] and straight[b]),
@@ -201,6 +216,20 @@ def vicon_anchor(vicon: dict, ev: dict[str, dict[str, np.ndarray]]) -> FootAncho
     return FootAnchor(
         time_s=STAND_FRAME / RATE, forward_m=float(d @ u), left_m=float(-u[1] * d[0] + u[0] * d[1])
     )
+
+
+def _temporal_err(rows: list[dict], q: str) -> dict[str, float]:
+    """IMU − marker-event value of ``q`` (percentage points of the stride) over ``rows``."""
+    e = np.array([r[f"{q}_imu"] - r[f"{q}_vicon"] for r in rows])
+    e = e[np.isfinite(e)]
+    if not e.size:
+        return {"n": 0}
+    return {
+        "n": int(e.size),
+        "median_abs": float(np.median(np.abs(e))),
+        "worst_abs": float(np.max(np.abs(e))),
+        "bias": float(e.mean()),
+    }
 
 
 def run(data: Path) -> dict:
@@ -273,6 +302,10 @@ def run(data: Path) -> dict:
                 "step_width_imu_m": s.step_width_m,
                 "step_width_vicon_m": v.get("step_width_m", float("nan")),
                 "step_straight": v.get("step_straight", False) and not s.step_turning,
+                "stance_pct_imu": s.stance_pct,
+                "stance_pct_vicon": v["stance_pct"],
+                "double_support_pct_imu": s.double_support_pct,
+                "double_support_pct_vicon": v["double_support_pct"],
                 "speed_imu_m_s": s.speed_m_s,
                 "speed_vicon_m_s": v["stride_length_m"] / v["stride_time_s"],
                 "heading_change_deg": s.heading_change_deg,
@@ -306,6 +339,7 @@ def run(data: Path) -> dict:
             "bias": float(sw.mean()),
         },
         "speed_err_m_s": {"median_abs": float(np.median(np.abs(sp))), "bias": float(sp.mean())},
+        **{f"{q}_err_points": _temporal_err(st, q) for q in ("stance_pct", "double_support_pct")},
         "cadence_imu": summary["cadence_steps_per_min"],
         "cadence_vicon": 120.0 / float(np.mean([v["stride_time_s"] for v in vs if v["straight"]])),
         "cadence_imu_from_strides": 120.0 / float(np.mean([s.stride_time_s for s in gp.select()])),
@@ -364,7 +398,7 @@ def markdown(res: dict) -> str:
     sp = res["spatial"]
     L += [
         "",
-        "## (c) Spatial parameters vs Vicon ankle centres (straight strides)",
+        "## (c) Spatio-temporal parameters vs Vicon ankle centres and marker events (straight strides)",
         "",
         "| quantity | median abs err | worst abs err | bias |",
         "|---|---|---|---|",
@@ -379,6 +413,13 @@ def markdown(res: dict) -> str:
             f"| {key.replace('_err_' + unit.replace('%', 'pct'), '')} | {e['median_abs']:.1f} {unit} | "
             f"{e['worst_abs']:.1f} {unit} | {e['bias']:+.1f} {unit} |"
         )
+    for key in ("stance_pct", "double_support_pct"):
+        e = sp[f"{key}_err_points"]
+        if e.get("n"):
+            L.append(
+                f"| {key} (vs marker events, n={e['n']}) | {e['median_abs']:.1f} pts | "
+                f"{e['worst_abs']:.1f} pts | {e['bias']:+.1f} pts |"
+            )
     L += [
         "",
         f"Cadence: IMU {sp['cadence_imu']:.1f} (60/step time; 120/stride time: "
