@@ -2,7 +2,7 @@
 
 Files (docs/formats.md, "Two legs"): ``calibration.json`` (``legs.left`` / ``legs.right``,
 each with the single-leg ``joints``), ``angles.csv`` (``left_*``/``right_*``),
-``positions.csv`` (with ``left_foot_to_right_foot``), ``events.csv``, ``gait.json``, the
+``positions.csv`` (with ``left_foot_to_right_foot``), ``events.csv``, ``stationary.csv``, ``gait.json``, the
 URDF (:func:`write_lower_body_urdf`) and ``report.html``. As for one leg, the folder is
 staged and renamed into place (:func:`lowerlimb.io.atomic.populate_directory`), so a
 failure leaves nothing. :func:`run_calibrate_bilateral` is the whole command in typed form.
@@ -22,7 +22,7 @@ from .bilateral import BilateralResult, process_bilateral_trial
 from .calibration.options import CalibrationOptions, check_method
 from .conventions import SIDES
 from .errors import InputError
-from .gait import GaitEvents, write_events_csv
+from .gait import GaitEvents, write_events_csv, write_stationary_csv
 from .io.atomic import populate_directory
 from .io.bilateral_tables import write_bilateral_tables
 from .io.bilateral_trial import BilateralTrial
@@ -67,6 +67,7 @@ def write_bilateral_outputs(result: BilateralResult, directory: Path) -> None:
     (directory / "calibration.json").write_text(json.dumps(d, indent=2), encoding="utf-8")
     write_bilateral_tables(directory, result.trial.time_s, result.angles_rad, result.positions_m)
     write_events_csv(result.gait.events or GaitEvents(), directory / "events.csv")
+    write_stationary_csv(result.gait.events or GaitEvents(), directory / "stationary.csv")
     (directory / "gait.json").write_text(json.dumps(result.gait.to_dict(), indent=2) + "\n", encoding="utf-8")
     _write_report(result, directory, d)
 

@@ -17,7 +17,7 @@ from bilateral_sim import simulate_two_legs
 
 from lowerlimb.conventions import SIDES
 from lowerlimb.errors import InputError, MissingColumnError, NonFiniteValueError, UnitError
-from lowerlimb.gait import EVENTS_COLUMNS
+from lowerlimb.gait import EVENTS_COLUMNS, STATIONARY_COLUMNS
 from lowerlimb.io.bilateral_tables import BILATERAL_ANGLE_COLUMNS, BILATERAL_POSITION_COLUMNS
 from lowerlimb.io.bilateral_trial import BilateralTrial, trial_layout
 from lowerlimb.io.recording import TWO_LEG_SENSORS
@@ -156,6 +156,22 @@ def test_outputs_have_the_two_leg_columns_and_keys(two_legs):
     rows = (out / "events.csv").read_text().splitlines()[1:]
     assert rows and {r.split(",")[2] for r in rows} == {"initial_contact", "toe_off"}
     assert {r.split(",")[1] for r in rows} == {"left", "right"}
+    _check_stationary(out, rows)
+
+
+def _check_stationary(out, event_rows):
+    """stationary.csv: both feet, ordered non-overlapping periods, no heel strike inside one."""
+    lines = (out / "stationary.csv").read_text().splitlines()
+    assert tuple(lines[0].split(",")) == STATIONARY_COLUMNS
+    periods = [(r.split(",")[0], float(r.split(",")[1]), float(r.split(",")[2])) for r in lines[1:]]
+    assert {side for side, _, _ in periods} == {"left", "right"}
+    for side in SIDES:
+        mine = sorted((a, b) for s_, a, b in periods if s_ == side)
+        assert all(a <= b for a, b in mine) and all(
+            b0 < a1 for (_, b0), (a1, _) in zip(mine[:-1], mine[1:], strict=True)
+        )
+        ics = [float(r.split(",")[0]) for r in event_rows if r.split(",")[1:] == [side, "initial_contact"]]
+        assert not any(a + 0.02 < t < b - 0.02 for t in ics for a, b in mine)
 
 
 def test_both_legs_calibrate_against_the_truth(two_legs):

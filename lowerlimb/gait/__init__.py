@@ -14,7 +14,13 @@ from lowerlimb.gait.params import GaitParams
 from lowerlimb.gait.sagittal import SagittalRate, sagittal_rate
 from lowerlimb.gait.stationary import StationaryPeriods, detect_stationary
 from lowerlimb.gait.trajectory import FootTrajectory, integrate_foot
-from lowerlimb.gait.writers import EVENTS_COLUMNS, write_events_csv, write_gait_json
+from lowerlimb.gait.writers import (
+    EVENTS_COLUMNS,
+    STATIONARY_COLUMNS,
+    write_events_csv,
+    write_gait_json,
+    write_stationary_csv,
+)
 
 __all__ = [
     "EVENTS_COLUMNS",
@@ -39,5 +45,7 @@ __all__ = [
     "integrate_foot",
     "sagittal_rate",
     "write_events_csv",
+    "write_stationary_csv",
+    "STATIONARY_COLUMNS",
     "write_gait_json",
 ]

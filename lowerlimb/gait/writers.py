@@ -1,4 +1,4 @@
-"""Writers of the gait outputs of docs/formats.md: ``events.csv`` and ``gait.json``."""
+"""Writers of the gait outputs of docs/formats.md: ``events.csv``, ``stationary.csv`` and ``gait.json``."""
 
 from __future__ import annotations
 
@@ -10,7 +10,13 @@ from typing import Any
 from lowerlimb.gait.events import GaitEvents
 from lowerlimb.gait.parameters import GaitParameters
 
-__all__ = ["EVENTS_COLUMNS", "write_events_csv", "write_gait_json"]
+__all__ = [
+    "EVENTS_COLUMNS",
+    "STATIONARY_COLUMNS",
+    "write_events_csv",
+    "write_gait_json",
+    "write_stationary_csv",
+]
 
 #: Columns of ``events.csv`` (docs/formats.md, "Two legs"); ``event`` is ``initial_contact`` or ``toe_off``.
 EVENTS_COLUMNS = ("time", "side", "event")
@@ -21,6 +27,28 @@ def write_events_csv(events: GaitEvents, path: str | Path) -> Path:
     path = Path(path)
     lines = [",".join(EVENTS_COLUMNS)]
     lines += [f"{t:.6f},{side},{name}" for t, side, name in events.table()]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+#: Columns of ``stationary.csv``: one row per foot-stationary period, times in s.
+STATIONARY_COLUMNS = ("side", "start", "end")
+
+
+def write_stationary_csv(events: GaitEvents, path: str | Path) -> Path:
+    """Write each foot's stationary periods as ``side, start, end`` rows sorted by start (s, 6 decimals).
+
+    ``end`` is the time of the period's last stationary sample; a leg without a foot IMU
+    has no rows.
+    """
+    path = Path(path)
+    rows = []
+    for se in events.sides():
+        if se.stationary is None:
+            continue
+        rows += [(se.start_time_s + a, se.start_time_s + b, se.side) for a, b in se.stationary.intervals_s()]
+    lines = [",".join(STATIONARY_COLUMNS)]
+    lines += [f"{side},{a:.6f},{b:.6f}" for a, b, side in sorted(rows)]
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path
 
