@@ -19,8 +19,14 @@ Goals (issue 11): real walk: both legs calibrate, segment lengths within 20 mm, 
 20 ms median (40 ms worst), stride length within 3 %, step width within 20 mm; simulated:
 events within 10 ms median, stride length within 2 %, flexion RMSE ≤ 2°, other angles ≤ 3°.
 
-Usage: ``python benchmarks/gait.py [--data ../shared/data] [--seeds 201 202 …] [--duration 60]``;
-writes ``benchmarks/results/gait.{md,json}``.
+With ``--artefacts real`` the simulated walks carry the realism profile
+(``Artefacts.real_walk()``: heel-strike impacts, wobbling soft tissue, skin motion, clock, scale
+and misalignment errors of all seven sensors); the same seeds are also scored rigid and both
+are tabulated side by side; the real walk is not re-run.
+
+Usage: ``python benchmarks/gait.py [--data ../shared/data] [--seeds 201 202 …] [--duration 60]
+[--artefacts none|real] [--out DIR]``; writes ``gait.{md,json}`` (``gait_artefacts.{md,json}``
+with ``--artefacts real``) in ``--out`` (default ``benchmarks/results``).
 """
 
 from __future__ import annotations
@@ -38,7 +44,7 @@ import numpy as np
 
 from lowerlimb.bilateral import process_bilateral_trial
 from lowerlimb.conventions import ANGLE_COLUMNS, SIDES
-from lowerlimb.simulation import simulate_bilateral
+from lowerlimb.simulation import Artefacts, simulate_bilateral
 
 ROOT = Path(__file__).resolve().parents[1]
 MATCH_S = 0.2
@@ -114,9 +120,12 @@ def _joint_errors(res: Any, truth: dict[str, Any]) -> dict[str, list[float]]:
     return out
 
 
-def score_simulation(seed: int, duration_s: float) -> dict[str, Any]:
-    """One simulated walk through the two-leg pipeline, scored against its truth."""
-    sim = simulate_bilateral(duration_s, seed)
+def score_simulation(seed: int, duration_s: float, artefacts: Artefacts | None = None) -> dict[str, Any]:
+    """One simulated walk through the two-leg pipeline, scored against its truth.
+
+    ``artefacts`` is the simulator's realism profile (``None``: rigid sensors).
+    """
+    sim = simulate_bilateral(duration_s, seed, artefacts=artefacts)
     t0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -199,8 +208,6 @@ def _fmt(x: float, unit: str = "") -> str:
 
 
 def markdown(res: dict[str, Any]) -> str:
-    g = GOALS
-    s = res["simulated"]["pooled"]
     seeds = res["simulated"]["seeds"]
     L = [
         "# Both legs: issue 11's goals on simulated seven-IMU walks and on the real walk",
@@ -211,6 +218,19 @@ def markdown(res: dict[str, Any]) -> str:
         "",
         "## Simulated (truth: the simulator's heel contacts, toe-offs, ankle centres and angles)",
         "",
+    ]
+    L += _simulated_lines(res["simulated"])
+    r = res.get("real")
+    if r:
+        L += _real_lines(r)
+    return "\n".join(L) + "\n"
+
+
+def _simulated_lines(sim: dict[str, Any]) -> list[str]:
+    """The simulated walks' tables: pooled events and strides, joints, angles, per trial."""
+    g = GOALS
+    s = sim["pooled"]
+    L = [
         "| quantity | n | median abs | worst abs | bias | goal | met |",
         "|---|---|---|---|---|---|---|",
     ]
@@ -253,58 +273,170 @@ def markdown(res: dict[str, Any]) -> str:
         "| seed | IC median ms | TO median ms | stride % median | wall s |",
         "|---|---|---|---|---|",
     ]
-    for tr in res["simulated"]["trials"]:
+    for tr in sim["trials"]:
         ic = _stats(tr["left_initial_contact_ms"] + tr["right_initial_contact_ms"])["median_abs"]
         to = _stats(tr["left_toe_off_ms"] + tr["right_toe_off_ms"])["median_abs"]
         sl = _stats(tr["stride_length_pct"])["median_abs"]
         L.append(f"| {tr['seed']} | {_fmt(ic)} | {_fmt(to)} | {_fmt(sl)} | {tr['wall_s']:.1f} |")
-    r = res.get("real")
-    if r:
-        bg, ge = r["bilateral_gait"], r["gait_events"]
-        L += [
-            "",
-            "## Real walk (gait/, S02 Walk-1)",
-            "",
-            "| quantity | value | goal | met |",
-            "|---|---|---|---|",
-        ]
-        L.append(
-            f"| both legs calibrate | {bg.get('both_legs_calibrate')} | yes | "
-            f"{'yes' if bg.get('both_legs_calibrate') else '**no**'} |"
+    return L
+
+
+def _real_lines(r: dict[str, Any]) -> list[str]:
+    """The real walk's table (``bilateral_gait.py`` and ``gait_events.py``)."""
+    g = GOALS
+    bg, ge = r["bilateral_gait"], r["gait_events"]
+    L: list[str] = []
+    L += [
+        "",
+        "## Real walk (gait/, S02 Walk-1)",
+        "",
+        "| quantity | value | goal | met |",
+        "|---|---|---|---|",
+    ]
+    L.append(
+        f"| both legs calibrate | {bg.get('both_legs_calibrate')} | yes | "
+        f"{'yes' if bg.get('both_legs_calibrate') else '**no**'} |"
+    )
+    for side, leg in bg.get("legs", {}).items():
+        for seg in ("thigh", "shank"):
+            e = leg.get(f"{seg}_err_mm", float("nan"))
+            met = "yes" if abs(e) <= g["real_length_mm"] else "**no**"
+            L.append(f"| {side} {seg} length error | {e:+.0f} mm | ≤ {g['real_length_mm']:g} mm | {met} |")
+    for name, st in ge["events"].items():
+        if "vs" in name:
+            continue
+        stt = st["straight"]
+        met = (
+            "yes"
+            if stt["median_abs_ms"] <= g["real_event_median_ms"]
+            and stt["worst_abs_ms"] <= g["real_event_worst_ms"]
+            else "**no**"
         )
-        for side, leg in bg.get("legs", {}).items():
-            for seg in ("thigh", "shank"):
-                e = leg.get(f"{seg}_err_mm", float("nan"))
-                met = "yes" if abs(e) <= g["real_length_mm"] else "**no**"
-                L.append(
-                    f"| {side} {seg} length error | {e:+.0f} mm | ≤ {g['real_length_mm']:g} mm | {met} |"
-                )
-        for name, st in ge["events"].items():
-            if "vs" in name:
-                continue
-            stt = st["straight"]
-            met = (
-                "yes"
-                if stt["median_abs_ms"] <= g["real_event_median_ms"]
-                and stt["worst_abs_ms"] <= g["real_event_worst_ms"]
-                else "**no**"
-            )
+        L.append(
+            f"| {name} (straight, n={stt['n']}) | median {_fmt(stt['median_abs_ms'])} / worst "
+            f"{_fmt(stt['worst_abs_ms'])} / bias {_fmt(stt['bias_ms'])} ms | ≤ 20 / 40 ms | {met} |"
+        )
+    for key, goal, unit in (
+        ("stride_length_err_pct", g["real_stride_length_pct"], "%"),
+        ("step_width_err_mm", g["real_step_width_mm"], "mm"),
+    ):
+        st = bg.get(key, {})
+        med, worst = st.get("median_abs", float("nan")), st.get("worst_abs", float("nan"))
+        met = "yes" if med <= goal else "**no**"
+        L.append(
+            f"| {key} (n={st.get('n', 0)}) | median {_fmt(med)} / worst {_fmt(worst)} "
+            f"{unit} | ≤ {goal:g} {unit} | {met} |"
+        )
+    return L
+
+
+def _compare_row(label: str, rigid: dict[str, float], art: dict[str, float], unit: str) -> str:
+    """One row of the rigid-vs-artefacts table: n, median and worst of each."""
+    return (
+        f"| {label} | {rigid['n']} / {art['n']} | {_fmt(rigid['median_abs'], unit)} / "
+        f"{_fmt(rigid['worst_abs'], unit)} | {_fmt(art['median_abs'], unit)} / "
+        f"{_fmt(art['worst_abs'], unit)} |"
+    )
+
+
+def markdown_artefacts(res: dict[str, Any]) -> str:
+    """Rigid versus ``Artefacts.real_walk()`` on the same seeds, then the artefact walks in full."""
+    art, rigid = res["simulated"], res["rigid"]
+    a, r = art["pooled"], rigid["pooled"]
+    L = [
+        "# Both legs with the simulator's real-walk artefacts",
+        "",
+        "`simulate_bilateral(..., artefacts=Artefacts.real_walk())` seeds "
+        f"{', '.join(map(str, art['seeds']))}, "
+        f"{art['duration_s']:g} s each, realistic noise: heel-strike impacts at each foot's contacts, "
+        "wobbling soft tissue, skin motion, clock offset and jitter, scale and misalignment of all "
+        "seven sensors. The same seeds rigid (same placements, walk and noise) alongside; "
+        f"scored after {SKIP_S:g} s as `gait.md`.",
+        "",
+        "## Rigid versus artefacts (n, median abs / worst abs)",
+        "",
+        "| quantity | n rigid / art | rigid | artefacts |",
+        "|---|---|---|---|",
+    ]
+    for key, unit in (
+        ("initial_contact", " ms"),
+        ("toe_off", " ms"),
+        ("stride_length_pct", " %"),
+        ("step_width_mm", " mm"),
+        ("step_length_mm", " mm"),
+        ("hip_spacing_err_mm", " mm"),
+    ):
+        L.append(_compare_row(key, r[key], a[key], unit))
+    for kind in ("initial_contact", "toe_off"):
+        L.append(f"| {kind} missed | | {r[kind]['missed']} | {a[kind]['missed']} |")
+    for label in a["joints"]:
+        L.append(_compare_row(label, r["joints"][label], a["joints"][label], ""))
+    for side in SIDES:
+        for name in ANGLES:
+            med_r, w_r = (r["angle_rmse_deg"][k][side][name] for k in ("median", "worst"))
+            med_a, w_a = (a["angle_rmse_deg"][k][side][name] for k in ("median", "worst"))
             L.append(
-                f"| {name} (straight, n={stt['n']}) | median {_fmt(stt['median_abs_ms'])} / worst "
-                f"{_fmt(stt['worst_abs_ms'])} / bias {_fmt(stt['bias_ms'])} ms | ≤ 20 / 40 ms | {met} |"
+                f"| {side} {name} RMSE, deg (median / worst trial) | | {med_r:.2f} / {w_r:.2f} | "
+                f"{med_a:.2f} / {w_a:.2f} |"
             )
-        for key, goal, unit in (
-            ("stride_length_err_pct", g["real_stride_length_pct"], "%"),
-            ("step_width_err_mm", g["real_step_width_mm"], "mm"),
-        ):
-            st = bg.get(key, {})
-            med, worst = st.get("median_abs", float("nan")), st.get("worst_abs", float("nan"))
-            met = "yes" if med <= goal else "**no**"
-            L.append(
-                f"| {key} (n={st.get('n', 0)}) | median {_fmt(med)} / worst {_fmt(worst)} "
-                f"{unit} | ≤ {goal:g} {unit} | {met} |"
-            )
+    n_warn = (sum(tr["warnings"] for tr in rigid["trials"]), sum(tr["warnings"] for tr in art["trials"]))
+    L.append(f"| warnings (all trials) | | {n_warn[0]} | {n_warn[1]} |")
+    L += _per_trial_lines(rigid["trials"], art["trials"])
+    L += ["", "## With artefacts, in full", ""]
+    L += _simulated_lines(art)
     return "\n".join(L) + "\n"
+
+
+def _per_trial_lines(rigid: list[dict[str, Any]], art: list[dict[str, Any]]) -> list[str]:
+    """Per seed, rigid → artefacts: worst angle RMSE and the knee axis error of each leg."""
+    L = [
+        "",
+        "Per trial, rigid → artefacts (worst angle RMSE of each leg, deg; knee axis error "
+        "left / right, deg):",
+        "",
+        "| seed | worst angle left | worst angle right | knee axis | warnings |",
+        "|---|---|---|---|---|",
+    ]
+    for r, a in zip(rigid, art, strict=True):
+
+        def worst(tr: dict[str, Any], side: str) -> str:
+            rm = tr["angle_rmse_deg"][side]
+            name = max(rm, key=rm.get)
+            return f"{rm[name]:.1f} ({name})"
+
+        def knee(tr: dict[str, Any]) -> str:
+            return " / ".join(f"{e:.1f}" for e in tr["joint_err"]["knee axis, deg"])
+
+        L.append(
+            f"| {a['seed']} | {worst(r, 'left')} → {worst(a, 'left')} | {worst(r, 'right')} → "
+            f"{worst(a, 'right')} | {knee(r)} → {knee(a)} | {r['warnings']} → {a['warnings']} |"
+        )
+    return L
+
+
+def _simulated(seeds: list[int], duration_s: float, artefacts: Artefacts | None) -> dict[str, Any]:
+    """Score every seed (with the realism profile ``artefacts``, if any) and pool the results."""
+    trials = [score_simulation(seed, duration_s, artefacts) for seed in seeds]
+    return {
+        "seeds": seeds,
+        "duration_s": duration_s,
+        "pooled": summarise_simulation(trials),
+        "trials": trials,
+    }
+
+
+def _main_artefacts(args: argparse.Namespace) -> None:
+    """``--artefacts real``: the same seeds with ``Artefacts.real_walk()`` and rigid."""
+    res: dict[str, Any] = {
+        "goals": GOALS,
+        "profile": Artefacts.real_walk().to_dict(),
+        "simulated": _simulated(args.seeds, args.duration, Artefacts.real_walk()),
+        "rigid": _simulated(args.seeds, args.duration, None),
+    }
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "gait_artefacts.json").write_text(json.dumps(res, indent=1, default=float) + "\n")
+    (args.out / "gait_artefacts.md").write_text(markdown_artefacts(res))
+    print(markdown_artefacts(res))
 
 
 def main() -> None:
@@ -313,7 +445,17 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, nargs="+", default=[201, 202, 203, 204, 205, 206])
     ap.add_argument("--duration", type=float, default=60.0)
     ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
+    ap.add_argument(
+        "--artefacts",
+        choices=("none", "real"),
+        default="none",
+        help="real: simulated walks with Artefacts.real_walk(), compared with the same seeds rigid "
+        "(writes gait_artefacts.{md,json}; the real walk is not re-run)",
+    )
     args = ap.parse_args()
+    if args.artefacts == "real":
+        _main_artefacts(args)
+        return
     trials = [score_simulation(seed, args.duration) for seed in args.seeds]
     res: dict[str, Any] = {
         "goals": GOALS,

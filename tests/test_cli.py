@@ -62,11 +62,33 @@ def test_simulate_both_legs_writes_a_seven_imu_walk_and_its_truth(tmp_path, caps
     assert (tmp_path / "truth_positions.csv").read_text().startswith("time,left_pelvis_to_foot_x")
 
 
+def test_simulate_both_legs_with_real_walk_artefacts(tmp_path, capsys):
+    from lowerlimb.io.bilateral_trial import BilateralTrial
+
+    out, truth = tmp_path / "t7.csv", tmp_path / "truth.json"
+    argv = ["simulate", "--side", "both", "--duration", "8", "--seed", "5", "--artefacts", "real"]
+    assert main([*argv, "--out", str(out), "--truth", str(truth)]) == 0
+    assert "real-walk artefacts" in capsys.readouterr().out
+    trial = BilateralTrial.from_csv(out)
+    assert trial.n_samples == 800 and len(trial.acc) == 7
+    rec = json.loads(truth.read_text())["artefacts"]
+    assert set(rec["clock_offset_s"]) == set(trial.acc) and rec["params"]["impact_mps2"]["shank"] > 0
+    assert (tmp_path / "truth_events.csv").exists() and (tmp_path / "truth_gait.json").exists()
+    # the same seed without artefacts: same walk, different signals
+    rigid = tmp_path / "rigid.csv"
+    assert main([*argv[:-2], "--out", str(rigid)]) == 0
+    r = BilateralTrial.from_csv(rigid)
+    assert not np.allclose(r.acc["left_shank"], trial.acc["left_shank"], atol=0.5)
+
+
 @pytest.mark.parametrize(
     "argv, message",
     [
         (["simulate", "--side", "both", "--motion", "squat", "--out", "x.csv"], "walking only"),
-        (["simulate", "--side", "both", "--artefacts", "real", "--out", "x.csv"], "rigidly mounted"),
+        (
+            ["simulate", "--side", "both", "--soft-tissue", "--out", "x.csv"],
+            "does not simulate --soft-tissue",
+        ),
         (["simulate", "--side", "both", "--duration", "4", "--out", "x.csv"], "at least 6 s"),
         (["simulate", "--motion", "jog", "--out", "x.csv"], "invalid choice: 'jog'"),
         (["simulate", "--duration", "-3", "--out", "x.csv"], "must be positive"),

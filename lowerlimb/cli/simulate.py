@@ -48,12 +48,17 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         default="realistic",
         help="realistic: gyro 0.015 rad/s, acc 0.08 m/s², gyro bias 0.01 rad/s; none: ideal",
     )
-    p.add_argument("--soft-tissue", action="store_true", help="let sensors slide with joint angles")
+    p.add_argument(
+        "--soft-tissue",
+        action="store_true",
+        help="let sensors slide with joint angles (one leg only; not with --side both)",
+    )
     p.add_argument(
         "--artefacts",
         choices=("none", "real"),
         default="none",
-        help="real: heel-strike impacts, wobbling tissue, skin motion, clock/scale errors (default: none)",
+        help="real: heel-strike impacts, wobbling tissue, skin motion, clock/scale errors; "
+        "also with --side both (all seven sensors) (default: none)",
     )
     p.add_argument("--no-mag", action="store_true", help="omit magnetometer columns")
     p.add_argument(
@@ -100,7 +105,7 @@ def _check_two_leg_options(args: argparse.Namespace) -> None:
     """Refuse options the seven-IMU walk does not simulate.
 
     Raises:
-        InputError: ``--side both`` with another motion, soft tissue or artefacts, or too short.
+        InputError: ``--side both`` with another motion, soft tissue, or too short.
     """
     if args.side != "both":
         return
@@ -109,10 +114,10 @@ def _check_two_leg_options(args: argparse.Namespace) -> None:
             f"--side both simulates walking only, not --motion {args.motion}; "
             "drop --motion or use --side left"
         )
-    if args.soft_tissue or args.artefacts != "none":
+    if args.soft_tissue:
         raise InputError(
-            "--side both simulates rigidly mounted sensors; drop --soft-tissue and --artefacts, "
-            "or simulate one leg (--side left)"
+            "--side both does not simulate --soft-tissue; use --artefacts real for non-rigid "
+            "sensors on both legs, or simulate one leg (--side left)"
         )
     if args.duration < 6.0:
         raise InputError(f"--side both needs at least 6 s of walk, not --duration {args.duration:g}")
@@ -122,11 +127,16 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
     """Simulate the seven-IMU walk and write the trial and truth files, all or none."""
     from lowerlimb.io.atomic import write_files_atomically, write_text
     from lowerlimb.io.bilateral_tables import write_bilateral_angles_csv, write_bilateral_positions_csv
-    from lowerlimb.simulation import ImuNoise, simulate_bilateral
+    from lowerlimb.simulation import Artefacts, ImuNoise, simulate_bilateral
 
     noise = ImuNoise() if args.noise == "realistic" else ImuNoise.none()
     sim = simulate_bilateral(
-        args.duration, args.seed, rate_hz=args.rate, noise=noise, with_mag=not args.no_mag
+        args.duration,
+        args.seed,
+        rate_hz=args.rate,
+        noise=noise,
+        with_mag=not args.no_mag,
+        artefacts=Artefacts.real_walk() if args.artefacts == "real" else None,
     )
     t = sim.trial.time_s
     writers: dict[Path, Callable[[Path], None]] = {targets["--out"]: sim.trial.to_csv}
@@ -152,7 +162,8 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
         )
     write_files_atomically(writers, overwrite=args.force)
     print(
-        f"wrote {args.out} ({sim.trial.n_samples} samples at {args.rate:g} Hz, walk, both legs)"
+        f"wrote {args.out} ({sim.trial.n_samples} samples at {args.rate:g} Hz, walk, both legs"
+        f"{', real-walk artefacts' if sim.artefacts is not None else ''})"
         f"{' and ' + str(args.truth) if args.truth else ''}"
     )
 

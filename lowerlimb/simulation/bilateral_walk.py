@@ -5,9 +5,10 @@ placements, one pelvis sensor shared by both) → the walk planned from footprin
 (:mod:`lowerlimb.simulation.footsteps`) → the pelvis pose, its height lowered where a
 leg could not reach its foot (:func:`_pelvis_root`) → joint angles by inverse
 kinematics (:mod:`lowerlimb.simulation.leg_ik`) → the rigid sensor signals of each leg
-by the single-leg simulator's forward kinematics → sensor noise and bias → truth:
-joints, angles, positions, gait events and spatio-temporal parameters
-(:mod:`lowerlimb.simulation.gait_truth`).
+by the single-leg simulator's forward kinematics → with a realism profile, each leg's
+non-rigid sensor motion (:mod:`lowerlimb.simulation.bilateral_artefacts`) → gravity →
+sensor errors (with a profile), noise and bias → truth: joints, angles, positions, gait
+events and spatio-temporal parameters (:mod:`lowerlimb.simulation.gait_truth`).
 
 Both legs move in opposite phase with double support, and each foot is still on the
 ground while flat; the heel (heel rocker) and the metatarsal heads (forefoot rocker)
@@ -25,7 +26,6 @@ import pinocchio as pin
 from scipy.interpolate import make_interp_spline
 
 from ..conventions import (
-    GRAVITY_ENU,
     SENSORS,
     SIDES,
     FloatArray,
@@ -39,6 +39,8 @@ from ..io.bilateral_trial import BilateralTrial
 from ..model.anthropometry import ankle_height_m
 from ..model.geometry import LegGeometry
 from ..model.leg_model import DOF_NAMES, LegModel
+from .artefacts import Artefacts
+from .bilateral_artefacts import BilateralArtefactTruth, bilateral_artefact_truth, bilateral_tissue_motion
 from .footsteps import (
     MID_STANCE_FRACTION,
     R_ENU_SEGMENT0,
@@ -54,7 +56,17 @@ from .leg_ik import solve_leg
 from .motions import MotionKinematics, smoothstep
 from .noise import ImuNoise
 from .placements import random_placements
-from .simulator import MAG_FIELD_ENU_UT, _rigid_signals, _root_joint, _SensorSignals, _Trajectories
+from .sensor_errors import SensorErrors, draw_sensor_errors
+from .simulator import (
+    MAG_FIELD_ENU_UT,
+    _apply_errors,
+    _move_sensors,
+    _rigid_signals,
+    _root_joint,
+    _SensorSignals,
+    _Trajectories,
+)
+from .tissue_motion import TissueMotion
 
 __all__ = ["BilateralSimulation", "simulate_bilateral"]
 
@@ -90,6 +102,9 @@ class BilateralSimulation:
         models: ``{side: LegModel}`` the true legs (free-flyer root).
         draw: The walk's random choices.
         runtime_s: Wall time of the simulation, s.
+        artefacts: What the realism profile did (None without one); with it, ``clean`` holds
+            the non-rigid sensors' exact signals and ``trial`` adds the clock, scale and
+            misalignment errors as well as noise.
     """
 
     trial: BilateralTrial
@@ -105,6 +120,7 @@ class BilateralSimulation:
     models: dict[str, LegModel]
     draw: WalkDraw
     runtime_s: float = 0.0
+    artefacts: BilateralArtefactTruth | None = None
 
 
 def _legs(height_m: float, mass_kg: float, rng: np.random.Generator) -> dict[str, LegModel]:
@@ -255,15 +271,43 @@ def _foot_points(leg: LegModel) -> tuple[FloatArray, FloatArray]:
     return np.array([-0.22 * Lf, -h_a, 0.0]), np.array([0.65 * Lf, -h_a, 0.0])
 
 
-def _signals(leg: LegModel, t: FloatArray, Q: FloatArray) -> _SensorSignals:
-    """Rigid sensor signals (specific force, gyro, poses) of one leg for configurations ``Q``."""
+def _trajectory(t: FloatArray, Q: FloatArray) -> _Trajectories:
+    """One leg's configurations ``Q`` (N, 7 + 9) on ``t`` (N,), s, with quintic-spline derivatives."""
     spline = make_interp_spline(t, Q, k=5)
     kin = MotionKinematics(Q[:, 7:], Q[:, 4:7], Q[:, 3], Q[:, :3])
-    traj = _Trajectories(t, np.ones_like(t), kin, Q, spline.derivative(1)(t), spline.derivative(2)(t))
-    sig = _rigid_signals(leg, traj, with_alpha=False)
-    for sensor in SENSORS:
-        sig.acc[sensor] -= np.einsum("nji,j->ni", sig.rot[sensor], GRAVITY_ENU)
-    return sig
+    return _Trajectories(t, np.ones_like(t), kin, Q, spline.derivative(1)(t), spline.derivative(2)(t))
+
+
+def _leg_signals(
+    legs: dict[str, LegModel],
+    t: FloatArray,
+    rate_hz: float,
+    Q: dict[str, FloatArray],
+    feet: dict[str, FootPlan],
+    ramp: FloatArray,
+    art: Artefacts | None,
+    rng: np.random.Generator,
+) -> tuple[dict[str, _SensorSignals], dict[str, dict[str, TissueMotion]] | None, dict[str, FloatArray]]:
+    """Each leg's sensor signals (specific force, gyro, poses), non-rigid with a profile.
+
+    Rigid signals by forward kinematics of the configurations ``Q`` (``{side: (N, 16)}``) on
+    ``t`` (N,), s, sampled at ``rate_hz``, Hz;
+    with ``art``, each leg's tissue motion (:func:`bilateral_tissue_motion`, draws from
+    ``rng``) moves its sensors as in the single-leg simulator (slide, gravity, tilt).
+
+    Returns:
+        ``{side: signals}`` (specific force m/s², gyro rad/s, sensor frames), the tissue
+        motion (``None`` without a profile) and ``{side: (K,)}`` the impact weights.
+    """
+    traj = {s: _trajectory(t, Q[s]) for s in SIDES}
+    sig = {s: _rigid_signals(legs[s], traj[s], with_alpha=art is not None) for s in SIDES}
+    tissue: dict[str, dict[str, TissueMotion]] | None = None
+    weights: dict[str, FloatArray] = {}
+    if art is not None:
+        tissue, weights = bilateral_tissue_motion(art, rate_hz, feet, ramp, traj, sig, rng)
+    for s in SIDES:
+        _move_sensors(sig[s], traj[s], None, tissue[s] if tissue is not None else None)
+    return sig, tissue, weights
 
 
 def _two_leg(per_leg: dict[str, dict[str, FloatArray]]) -> dict[str, FloatArray]:
@@ -275,17 +319,31 @@ def _two_leg(per_leg: dict[str, dict[str, FloatArray]]) -> dict[str, FloatArray]
 
 
 def _measure(
-    t: FloatArray, clean: BilateralTrial, noise: ImuNoise, rng: np.random.Generator, with_mag: bool
+    t: FloatArray,
+    clean: BilateralTrial,
+    errors: SensorErrors | None,
+    noise: ImuNoise,
+    rng: np.random.Generator,
+    with_mag: bool,
 ) -> tuple[BilateralTrial, dict[str, FloatArray]]:
-    """Noisy trial and ``{sensor: (3,)}`` the constant gyro bias added, rad/s."""
+    """Measured trial and ``{sensor: (3,)}`` the constant gyro bias added, rad/s.
+
+    The clean signals (sensor frames: m/s², rad/s, µT) read with the clock, scale and
+    misalignment ``errors`` (if any), then gyro bias and white noise from ``rng``.
+    """
     acc, gyr, mag, bias = {}, {}, {}, {}
     assert clean.mag is not None
+    m_acc, m_gyr, m_mag = (
+        (clean.acc, clean.gyr, clean.mag)
+        if errors is None
+        else _apply_errors(t, clean.acc, clean.gyr, clean.mag, errors)
+    )
     for s in clean.acc:
         b = rng.normal(size=3)
         bias[s] = noise.gyr_bias_rps * b / np.linalg.norm(b)
-        gyr[s] = clean.gyr[s] + bias[s] + noise.gyr_std_rps * rng.normal(size=(t.size, 3))
-        acc[s] = clean.acc[s] + noise.acc_std_mps2 * rng.normal(size=(t.size, 3))
-        mag[s] = clean.mag[s] + noise.mag_std_ut * rng.normal(size=(t.size, 3))
+        gyr[s] = m_gyr[s] + bias[s] + noise.gyr_std_rps * rng.normal(size=(t.size, 3))
+        acc[s] = m_acc[s] + noise.acc_std_mps2 * rng.normal(size=(t.size, 3))
+        mag[s] = m_mag[s] + noise.mag_std_ut * rng.normal(size=(t.size, 3))
     return BilateralTrial(t.copy(), acc, gyr, mag if with_mag else None), bias
 
 
@@ -311,6 +369,7 @@ def simulate_bilateral(
     height_m: float = 1.75,
     mass_kg: float = 75.0,
     still_s: float = 1.5,
+    artefacts: Artefacts | None = None,
 ) -> BilateralSimulation:
     """Simulate a seven-IMU walk (pelvis, both thighs, shanks and feet) with known truth.
 
@@ -323,6 +382,11 @@ def simulate_bilateral(
         height_m: Stature for the template (de Leva 1996), m.
         mass_kg: Body mass, kg.
         still_s: Standing still in the reference posture at the start, s.
+        artefacts: Realism profile (impacts at each foot's contacts, wobbling soft tissue,
+            skin motion, clock and scale errors of all seven sensors,
+            :mod:`lowerlimb.simulation.bilateral_artefacts`); ``None`` or
+            :meth:`Artefacts.none` gives the rigid signals. Its random draws use their own
+            stream, so the placements, walk and noise are those of the rigid simulation.
 
     Returns:
         A :class:`BilateralSimulation`.
@@ -337,6 +401,8 @@ def simulate_bilateral(
         )
     noise = ImuNoise() if noise is None else noise
     rng = np.random.default_rng(seed)
+    art = artefacts if artefacts is not None and artefacts.active else None
+    art_rng = np.random.default_rng([seed, 9] if art is None or art.seed is None else art.seed)
     legs = _legs(height_m, mass_kg, rng)
     d = draw_walk(rng)
     t = np.arange(int(round(duration_s * rate_hz))) / rate_hz
@@ -346,23 +412,29 @@ def simulate_bilateral(
     feet = {s: plan_feet(s, d, t, t0, (path[0], path[1]), stand[s], _foot_points(legs[s])) for s in SIDES}
     root = _pelvis_root(t, d, t0, legs, feet, path, z_stand)
     ramp = smoothstep(t, t0, d.stride_time_s)
-    Q, sig = {}, {}
+    Q = {}
     for s in SIDES:
         u = (t - first_contacts(d, t0)[s]) / d.stride_time_s
         hip_rot = np.deg2rad(d.hip_rotation_deg) * np.sin(2 * np.pi * u - 0.8) * ramp
         angles = solve_leg(legs[s], root, hip_rot, feet[s].ankle_m, feet[s].rotation)
         Q[s] = np.hstack([root, angles])
-        sig[s] = _signals(legs[s], t, Q[s])
+    sig, tissue, weights = _leg_signals(legs, t, rate_hz, Q, feet, ramp, art, art_rng)
     acc = _two_leg({s: sig[s].acc for s in SIDES})
     gyr = _two_leg({s: sig[s].gyr for s in SIDES})
     rot = _two_leg({s: sig[s].rot for s in SIDES})
     mag = {k: np.einsum("nji,j->ni", R, MAG_FIELD_ENU_UT) for k, R in rot.items()}
     clean = BilateralTrial(t.copy(), acc, gyr, mag)
-    trial, bias = _measure(t, clean, noise, rng, with_mag)
+    errors = draw_sensor_errors(art, t.size, art_rng, tuple(acc)) if art is not None else None
+    trial, bias = _measure(t, clean, errors, noise, rng, with_mag)
     ankle = {s: sig[s].ankle_c for s in SIDES}
     gt = gait_truth({s: feet[s].events for s in SIDES}, ankle, t)
     models = {s: LegModel(legs[s].geometry) for s in SIDES}
     truth = _truth(models, d, gt, bias, seed, rate_hz, duration_s, height_m, mass_kg, noise, feet)
+    art_truth = None
+    if art is not None and errors is not None and tissue is not None:
+        base_pl = {s: sig[s].base_pl for s in SIDES}
+        art_truth = bilateral_artefact_truth(art, errors, feet, weights, tissue, base_pl)
+        truth["artefacts"] = art_truth.to_dict()
     return BilateralSimulation(
         trial=trial,
         clean=clean,
@@ -377,6 +449,7 @@ def simulate_bilateral(
         models=models,
         draw=d,
         runtime_s=time.perf_counter() - t_start,
+        artefacts=art_truth,
     )
 
 

@@ -9,6 +9,7 @@ accelerometer and gyro read ``M · x`` with ``M = diag(1 + s) (I + E)``:
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -41,10 +42,12 @@ def _matrix(rng: np.random.Generator, scale_std: float, mis_std: float) -> Float
     return np.asarray(np.diag(1.0 + scale_std * rng.normal(size=3)) @ (np.eye(3) + E))
 
 
-def draw_sensor_errors(params: Artefacts, n: int, rng: np.random.Generator) -> SensorErrors:
-    """Draw the clock, scale and misalignment errors of the four sensors (:data:`SENSORS` order)."""
+def draw_sensor_errors(
+    params: Artefacts, n: int, rng: np.random.Generator, sensors: Sequence[str] = SENSORS
+) -> SensorErrors:
+    """Draw the clock, scale and misalignment errors of ``sensors`` (in that order) for ``n`` samples."""
     offset, times, acc_m, gyr_m = {}, {}, {}, {}
-    for sensor in SENSORS:
+    for sensor in sensors:
         offset[sensor] = float(params.clock_offset_std_s * rng.normal())
         times[sensor] = offset[sensor] + params.clock_jitter_std_s * rng.normal(size=n)
         acc_m[sensor] = _matrix(rng, params.acc_scale_std, params.misalignment_std_rad)

@@ -546,12 +546,40 @@ def _tissue_motion(
         ipsi, contra = contact_times(t, gait_phase, 0.0), contact_times(t, gait_phase, 0.5)
         ipsi, contra = ipsi[np.interp(ipsi, t, s) > 0.0], contra[np.interp(contra, t, s) > 0.0]
     weights = (np.interp(ipsi, t, s), np.interp(contra, t, s))
+    tissue = tissue_at_contacts(art, rate_hz, t, (ipsi, contra), weights, acc_rigid, base_pl, QVA, rng)
+    return (ipsi, contra), tissue
+
+
+def tissue_at_contacts(
+    art: Artefacts,
+    rate_hz: float,
+    t: FloatArray,
+    contacts: tuple[FloatArray, FloatArray],
+    weights: tuple[FloatArray, FloatArray],
+    acc_rigid: dict[str, FloatArray],
+    base_pl: dict[str, pin.SE3],
+    QVA: tuple[FloatArray, FloatArray, FloatArray],
+    rng: np.random.Generator,
+) -> dict[str, TissueMotion]:
+    """Each sensor's non-rigid motion (:func:`compute_tissue_motion`) for known initial contacts.
+
+    Args:
+        art: the realism profile.
+        rate_hz: sampling rate, Hz.
+        t: (N,) sample times, s.
+        contacts: (K,) initial contacts of the instrumented foot and (K',) of the other foot, s.
+        weights: (K,) and (K',) scale of each impact (dimensionless, 0–1).
+        acc_rigid: ``{sensor: (N, 3)}`` rigid classical acceleration of each sensor point,
+            nominal sensor frame, without gravity, m/s².
+        base_pl: nominal placement of each sensor frame in its segment frame.
+        QVA: (N, 7 + 9) configuration of the simulation model (root joint, then the leg
+            DOFs, rad) and its first and second time derivatives.
+        rng: draws the skin-motion directions.
+    """
     bone_acc = {sensor: acc_rigid[sensor] @ base_pl[sensor].rotation.T for sensor in SENSORS}
     normal = {sensor: base_pl[sensor].rotation[:, 2] for sensor in SENSORS}
-    n_root = 7
-    joints = (QVA[0][:, n_root:], QVA[1][:, n_root:], QVA[2][:, n_root:])
-    tissue = compute_tissue_motion(art, rate_hz, t, ipsi, contra, weights, bone_acc, normal, joints, rng)
-    return (ipsi, contra), tissue
+    joints = (QVA[0][:, _N_ROOT:], QVA[1][:, _N_ROOT:], QVA[2][:, _N_ROOT:])
+    return compute_tissue_motion(art, rate_hz, t, *contacts, weights, bone_acc, normal, joints, rng)
 
 
 def _apply_errors(
@@ -561,9 +589,12 @@ def _apply_errors(
     mag: dict[str, FloatArray],
     errors: SensorErrors,
 ) -> tuple[dict[str, FloatArray], dict[str, FloatArray], dict[str, FloatArray]]:
-    """Clock-shifted, scaled and misaligned accelerometer, gyro and magnetometer signals."""
+    """Clock-shifted, scaled and misaligned accelerometer, gyro and magnetometer signals.
+
+    ``{sensor: (N, 3)}`` in the sensor frames (m/s², rad/s, µT), for every sensor of ``acc``.
+    """
     out_acc, out_gyr, out_mag = {}, {}, {}
-    for sensor in SENSORS:
+    for sensor in acc:
         dt = errors.sample_time_error_s[sensor]
         out_acc[sensor] = resample_at(t, acc[sensor], dt) @ errors.acc_matrix[sensor].T
         out_gyr[sensor] = resample_at(t, gyr[sensor], dt) @ errors.gyr_matrix[sensor].T
