@@ -40,6 +40,10 @@ Sign resolution (eq. 4/6 cannot see the signs, docs/methods.md):
    ``g_P·j_P = g_C·j_C`` (:func:`check_sign_with_acc`): it decides when the
    gyro coherence is ambiguous (coherence < 0.5 or margin < 0.2) and only
    warns when it contradicts a clear gyro decision.
+4. When both leave the relative sign open (|correlation| ≤ 0.5), the candidate whose
+   drift-free angle is clearly more one-sided decides (``sign_one_sided_margin``): a
+   knee swings to one side of its running mean, a mirrored ``q`` to both
+   (:func:`drift_free_one_sidedness`).
 """
 
 from __future__ import annotations
@@ -145,7 +149,11 @@ def _principal_axis(w: FloatArray) -> FloatArray:
 
 
 def _multistart(
-    wp: FloatArray, wc: FloatArray, local: str, options: CalibrationOptions
+    wp: FloatArray,
+    wc: FloatArray,
+    local: str,
+    options: CalibrationOptions,
+    contested: Callable[[FloatArray, FloatArray], bool] | None = None,
 ) -> tuple[FloatArray, FloatArray, float, int, bool, str]:
     """Local solves on a subsample; two candidates polished on all samples, the better kept.
 
@@ -153,6 +161,11 @@ def _multistart(
     about it, whatever the sensor's mounting), then ``hinge_starts`` pairs along the
     sensor axes. Without the first, a realistic walk (knee 10–75°, little out-of-plane
     rotation) can settle in a local minimum 8–12° off with the wrong relative sign.
+    "Better" is the lower cost among the candidates that ``contested`` does not reject
+    (:func:`_sign_cues_disagree`), else the lower cost: with wobbling sensors a walk can
+    have a lower minimum 20° off whose gyro coherence and joint angle contradict each
+    other on the relative sign. While every polished candidate is contested, the other
+    starts are polished too, best subsample cost first.
     """
     step = subsample_step(wp.shape[0], _START_SUBSAMPLE)
     iterations = 0
@@ -165,15 +178,58 @@ def _multistart(
         sub.append((cost, jp, jc))
     # the principal start and the best sensor-axis start are both polished on all samples:
     # on a subsample a soft-tissue recording can prefer a minimum that the whole trial does not
-    best = None
-    for _, jp0, jc0 in (sub[0], min(sub[1:], key=lambda r: r[0])):
-        res = _local(wp, wc, jp0, jc0, local, options)
+    first = min(range(1, len(sub)), key=lambda i: sub[i][0])
+    order = [0, first] + sorted((i for i in range(1, len(sub)) if i != first), key=lambda i: sub[i][0])
+    polished: list[tuple[FloatArray, FloatArray, float, int, bool, str]] = []
+    fine: list[tuple[FloatArray, FloatArray, float, int, bool, str]] = []
+    for n, i in enumerate(order):
+        if n >= 2 and (fine or contested is None):
+            break  # the rest are polished only while every candidate so far is contested
+        res = _local(wp, wc, sub[i][1], sub[i][2], local, options)
         iterations += res[3]
-        if best is None or res[2] < best[2]:
-            best = res
-    assert best is not None
-    jp, jc, cost, _, converged, solver = best
+        polished.append(res)
+        if contested is None or not contested(res[0], res[1]):
+            fine.append(res)
+    jp, jc, cost, _, converged, solver = min(fine or polished, key=lambda r: r[2])
     return jp, jc, cost, iterations, converged, solver
+
+
+def _sign_cues_disagree(
+    jp: FloatArray,
+    jc: FloatArray,
+    wp: FloatArray,
+    wc: FloatArray,
+    rate_hz: float,
+    n_still: int,
+    options: CalibrationOptions,
+) -> bool:
+    """Whether the joint angle's one-sidedness clearly contradicts the gyro coherence's relative sign.
+
+    The coherence (:func:`relative_sign_coherence`) picks a relative sign; the drift-free
+    one-sidedness (:func:`drift_free_one_sidedness`) of the other sign is higher by at least
+    ``options.sign_one_sided_margin``. Inconclusive one-sidedness (a joint swinging about
+    its mean, a short trial) never contradicts.
+
+    Args:
+        jp: (3,) unit axis, parent frame.
+        jc: (3,) unit axis, child frame.
+        wp: (N, 3) parent gyro (no pseudo-samples), rad/s.
+        wc: (N, 3) child gyro, rad/s.
+        rate_hz: sampling rate, Hz.
+        n_still: still samples at the start.
+        options: calibration options.
+    """
+    s = (
+        1.0
+        if relative_sign_coherence(jp, jc, wp, wc, rate_hz)
+        >= relative_sign_coherence(jp, -jc, wp, wc, rate_hz)
+        else -1.0
+    )
+    chosen = drift_free_one_sidedness(jp, s * jc, wp, wc, rate_hz, n_still)
+    other = drift_free_one_sidedness(jp, -s * jc, wp, wc, rate_hz, n_still)
+    return bool(
+        np.isfinite(chosen) and np.isfinite(other) and other - chosen >= options.sign_one_sided_margin
+    )
 
 
 def hinge_angle(
@@ -236,19 +292,58 @@ def flexion_sign_margin(
     Returns:
         The signed margin ``p99 + p1`` of the deciding test, rad.
     """
+    best, best_score = 0.0, -1.0
+    for x in _flexion_tests(axis_parent, axis_child, gyr_parent, gyr_child, rate_hz, n_still, drift_hz):
+        margin, score = _one_sidedness(x)
+        if score > best_score:
+            best, best_score = margin, score
+    return best
+
+
+def _flexion_tests(
+    axis_parent: FloatArray,
+    axis_child: FloatArray,
+    gyr_parent: FloatArray,
+    gyr_child: FloatArray,
+    rate_hz: float,
+    n_still: int,
+    drift_hz: float,
+) -> list[FloatArray]:
+    """Flexion from the standing start and, on long enough trials, its drift-free part (rad)."""
     q = hinge_angle(axis_parent, axis_child, gyr_parent, gyr_child, rate_hz)
     f = -(q - float(np.mean(q[: max(n_still, 1)])))
     tests = [f]
     if f.shape[0] - n_still > rate_hz / drift_hz:
         moving = f[n_still:]
         tests.append(moving - lowpass(moving, rate_hz, drift_hz, order=2))
-    best, best_score = 0.0, -1.0
-    for x in tests:
-        hi, lo = float(np.percentile(x, 99)), float(np.percentile(x, 1))
-        score = abs(hi + lo) / max(hi - lo, 1e-12)
-        if score > best_score:
-            best, best_score = hi + lo, score
-    return best
+    return tests
+
+
+def _one_sidedness(x: FloatArray) -> tuple[float, float]:
+    """``(p99 + p1, |p99 + p1| / (p99 − p1))``: signed margin and score of the larger excursion."""
+    hi, lo = float(np.percentile(x, 99)), float(np.percentile(x, 1))
+    return hi + lo, abs(hi + lo) / max(hi - lo, 1e-12)
+
+
+def drift_free_one_sidedness(
+    axis_parent: FloatArray,
+    axis_child: FloatArray,
+    gyr_parent: FloatArray,
+    gyr_child: FloatArray,
+    rate_hz: float,
+    n_still: int = 0,
+    *,
+    drift_hz: float = 0.1,
+) -> float:
+    """Score (0–1) of how one-sided the drift-free hinge angle is; NaN on too short a trial.
+
+    With the right relative sign a knee's angle swings mostly to one side of its
+    running mean (flexion from a nearly straight leg); with the wrong one, ``q``
+    mixes the two segments' rotations and swings to both sides. Immune to the
+    drift and turn leakage that affect the angle from the start.
+    """
+    tests = _flexion_tests(axis_parent, axis_child, gyr_parent, gyr_child, rate_hz, n_still, drift_hz)
+    return _one_sidedness(tests[1])[1] if len(tests) > 1 else float("nan")
 
 
 def relative_sign_coherence(
@@ -396,9 +491,15 @@ def fit_hinge_axis(
     t0 = time.perf_counter()
     wp, wc = gyr_parent, gyr_child
     wpf, wcf = _with_gravity(wp, wc, gravity, n_still, options)
-    jp, jc, iterations, converged, solver = _solve_axes(wpf, wcf, method, options)
+
+    def contested(a: FloatArray, b: FloatArray) -> bool:
+        return _sign_cues_disagree(a, b, wp, wc, rate_hz, n_still, options)
+
+    jp, jc, iterations, converged, solver = _solve_axes(wpf, wcf, method, options, contested)
     messages: list[str] = []
-    jc, coherence, corr = _relative_sign(jp, jc, wp, wc, rate_hz, acc_check, joint, child_sensor, messages)
+    jc, coherence, corr = _relative_sign(
+        jp, jc, wp, wc, rate_hz, acc_check, joint, child_sensor, messages, n_still=n_still, options=options
+    )
     margin = flexion_sign_margin(jp, jc, wp, wc, rate_hz, n_still)
     if margin < 0:
         jp, jc = -jp, -jc
@@ -435,7 +536,11 @@ def fit_hinge_axis(
 
 
 def _solve_axes(
-    wp: FloatArray, wc: FloatArray, method: str, options: CalibrationOptions
+    wp: FloatArray,
+    wc: FloatArray,
+    method: str,
+    options: CalibrationOptions,
+    contested: Callable[[FloatArray, FloatArray], bool] | None = None,
 ) -> tuple[FloatArray, FloatArray, int, bool, str]:
     """Solve eq. 12 for the axes with ``method`` (signs not yet resolved).
 
@@ -444,13 +549,14 @@ def _solve_axes(
         wc: (N, 3) child gyro, child sensor frame, rad/s.
         method: one of :data:`~lowerlimb.calibration.options.METHODS`.
         options: calibration options.
+        contested: rejects a multi-start candidate whose sign cues disagree (:func:`_multistart`).
 
     Returns:
         ``(j_P, j_C, iterations, converged, solver)``: (3,) unit axes in the parent and child
         sensor frames, and the solver's iterations, convergence flag and name.
     """
     if method in ("casadi", "gn"):
-        jp, jc, _, iterations, converged, solver = _multistart(wp, wc, method, options)
+        jp, jc, _, iterations, converged, solver = _multistart(wp, wc, method, options, contested)
     else:
         res = solve_global(_problem(wp, wc, options), method, options)
         jp = axis_from_angles(res.x[0], res.x[1])
@@ -459,7 +565,7 @@ def _solve_axes(
         if method.endswith("+casadi"):
             # safeguard: the swarm may hand a wrong basin to the refinement (squats:
             # a minimum 90° away); keep the better of it and the default starts
-            ms = _multistart(wp, wc, "casadi", options)
+            ms = _multistart(wp, wc, "casadi", options, contested)
             iterations += ms[3]
             if ms[2] < res.cost:
                 jp, jc, converged = ms[0], ms[1], ms[4]
@@ -477,8 +583,15 @@ def _relative_sign(
     joint: str,
     child_sensor: str,
     messages: list[str],
+    *,
+    n_still: int = 0,
+    options: CalibrationOptions | None = None,
 ) -> tuple[FloatArray, FloatArray, float]:
-    """Sign rule 1 (module docstring): gyro coherence, settled by the accelerometers when available.
+    """Sign rule 1 (module docstring): gyro coherence, then accelerometers, then one-sidedness.
+
+    When the gyro coherence is ambiguous the accelerometers settle it; when they are
+    ambiguous too, the drift-free one-sidedness of the hinge angle does
+    (:func:`_one_sided_tiebreak`).
 
     Args:
         jp: (3,) unit axis, parent sensor frame.
@@ -490,6 +603,8 @@ def _relative_sign(
         joint: joint name used in messages.
         child_sensor: child sensor name used in messages.
         messages: warnings so far; this stage's are appended.
+        n_still: still samples at the start.
+        options: calibration options (``sign_one_sided_margin``; defaults when ``None``).
 
     Returns:
         ``(j_C, [coherence kept, coherence flipped], acceleration correlation or NaN)``.
@@ -516,12 +631,49 @@ def _relative_sign(
                 f"{joint}: gyro and accelerometer sign tests disagree (coherence margin "
                 f"{margin_coh:.2f}, acceleration correlation {corr:.2f}); kept the gyro decision"
             )
+    if not gyro_clear and not abs(corr) > 0.5:
+        jc, coh_keep, coh_flip = _one_sided_tiebreak(
+            jp, jc, wp, wc, rate_hz, n_still, (coh_keep, coh_flip), options or CalibrationOptions(), messages
+        )
     if not gyro_clear and not corr > 0.5:
         messages.append(
             f"{joint}: the relative sign of the axes is uncertain (coherence {coh_keep:.2f} vs "
             f"{coh_flip:.2f}); the {child_sensor} axis may point the opposite way"
         )
     return jc, np.array([coh_keep, coh_flip]), corr
+
+
+def _one_sided_tiebreak(
+    jp: FloatArray,
+    jc: FloatArray,
+    wp: FloatArray,
+    wc: FloatArray,
+    rate_hz: float,
+    n_still: int,
+    coherence: tuple[float, float],
+    options: CalibrationOptions,
+    messages: list[str],
+) -> tuple[FloatArray, float, float]:
+    """When gyros and accelerometers leave the relative sign open, the more one-sided angle decides.
+
+    The gyro coherence needs the off-axis rotation of both segments, which a walk has
+    little of and soft tissue garbles; the accelerometer check needs a well-determined
+    centre. The hinge angle's drift-free one-sidedness (:func:`drift_free_one_sidedness`)
+    needs only the flexion itself: it flips ``j_C`` when the flipped candidate is more
+    one-sided by at least ``options.sign_one_sided_margin``.
+
+    Returns:
+        ``(j_C, coherence kept, coherence flipped)`` after the decision.
+    """
+    keep = drift_free_one_sidedness(jp, jc, wp, wc, rate_hz, n_still)
+    flip = drift_free_one_sidedness(jp, -jc, wp, wc, rate_hz, n_still)
+    if np.isfinite(keep) and np.isfinite(flip) and flip - keep >= options.sign_one_sided_margin:
+        messages.append(
+            f"the gyro and accelerometer sign tests were ambiguous; the relative axis sign was "
+            f"chosen by the one-sidedness of the joint angle ({flip:.2f} against {keep:.2f})"
+        )
+        return -jc, coherence[1], coherence[0]
+    return jc, coherence[0], coherence[1]
 
 
 def _axis_diagnostics(

@@ -61,6 +61,12 @@ class CalibrationOptions:
             look swapped (:mod:`~lowerlimb.calibration.plausibility`).
         max_iter: iteration limit of the Gauss–Newton solvers.
         tol: convergence tolerance of the Gauss–Newton solvers (relative step).
+        sign_one_sided_margin: when neither the gyro coherence nor the accelerometers settle
+            a hinge's relative axis sign, the candidate whose drift-free joint angle is more
+            one-sided by at least this score (0–1) is taken
+            (:func:`~lowerlimb.calibration.hinge_axis.drift_free_one_sidedness`; a walking knee
+            scores 0.3–0.4 with the right sign and under 0.05 with the wrong one on the
+            seven-IMU simulator with artefacts).
         hinge_gravity_rate_rps: weight of the still-period gravity rows of the hinge
             fit, as the angular rate (rad/s) of the pseudo-samples, one per still
             sample (0: off; see :func:`~lowerlimb.calibration.hinge_axis.fit_hinge_axis`).
@@ -122,6 +128,7 @@ class CalibrationOptions:
     max_iter: int = 50
     tol: float = 1e-7
     hinge_gravity_rate_rps: float = 0.0
+    sign_one_sided_margin: float = 0.15
     hinge_starts: int = 3
     swarm_samples: int = 1500
     n_particles: int = 40

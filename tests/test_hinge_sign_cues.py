@@ -1,0 +1,69 @@
+"""The relative sign of a hinge's two axes from the joint angle's one-sidedness (calibration.hinge_axis)."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from lowerlimb.calibration.hinge_axis import (
+    _sign_cues_disagree,
+    drift_free_one_sidedness,
+    relative_sign_coherence,
+)
+from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.simulation import simulate
+
+
+@pytest.fixture(scope="module")
+def walk():
+    sim = simulate("walk", 30.0, seed=3)
+    knee = sim.truth["joints"]["knee"]
+    jp, jc = (np.asarray(knee[k], dtype=float) for k in ("axis_in_parent_sensor", "axis_in_child_sensor"))
+    return sim.trial, jp, jc
+
+
+def test_a_walking_knee_swings_to_one_side_only_with_the_right_relative_sign(walk):
+    trial, jp, jc = walk
+    wp, wc, rate = trial.gyr["thigh"], trial.gyr["shank"], trial.rate_hz
+    right = drift_free_one_sidedness(jp, jc, wp, wc, rate, 150)
+    wrong = drift_free_one_sidedness(jp, -jc, wp, wc, rate, 150)
+    assert right > 0.25 and wrong < 0.1
+    # too short for the drift-free test: no verdict
+    assert np.isnan(drift_free_one_sidedness(jp, jc, wp[:500], wc[:500], rate, 150))
+
+
+def test_true_axes_are_not_contested_and_a_mirrored_angle_is(walk):
+    trial, jp, jc = walk
+    wp, wc, rate = trial.gyr["thigh"], trial.gyr["shank"], trial.rate_hz
+    opts = CalibrationOptions()
+    assert not _sign_cues_disagree(jp, jc, wp, wc, rate, 150, opts)
+    # mirror the shank's rotation normal to the axis (keep its rotation about it): the gyro
+    # coherence now prefers the flipped relative sign, the joint angle still the right one
+    v = np.cross(jc, [1.0, 0.0, 0.0])
+    v /= np.linalg.norm(v)
+    mirrored = wc - 2.0 * np.outer(wc @ v, v)
+    coh = (
+        relative_sign_coherence(jp, jc, wp, mirrored, rate),
+        relative_sign_coherence(jp, -jc, wp, mirrored, rate),
+    )
+    assert coh[1] > coh[0]
+    assert _sign_cues_disagree(jp, jc, wp, mirrored, rate, 150, opts)
+
+
+@pytest.mark.slow
+def test_wobbling_sensors_do_not_mirror_the_knees():
+    from lowerlimb.bilateral import process_bilateral_trial
+    from lowerlimb.simulation.artefacts import Artefacts
+    from lowerlimb.simulation.bilateral_walk import simulate_bilateral
+
+    sim = simulate_bilateral(60.0, 205, artefacts=Artefacts.real_walk())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = process_bilateral_trial(sim.trial)
+    for i, side in enumerate(("left", "right")):
+        est = np.asarray(res.calibration_dict()["legs"][side]["joints"]["knee"]["axis_in_parent_sensor"])
+        tru = np.asarray(sim.truth["legs"][side]["joints"]["knee"]["axis_in_parent_sensor"])
+        assert est @ tru > 0.9, side
+        k = 9 * i + 3  # knee flexion
+        err = np.rad2deg(res.angles_rad[:, k] - sim.angles_rad[:, k])[300:]
+        assert np.sqrt(np.mean(err**2)) < 10.0, side
