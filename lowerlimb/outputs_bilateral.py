@@ -59,26 +59,70 @@ def write_lower_body_urdf(result: BilateralResult, directory: Path) -> list[str]
     return ["calibrated.urdf", *LEG_URDF_FILES.values()]
 
 
-def write_bilateral_outputs(result: BilateralResult, directory: Path) -> None:
-    """Write every output of a processed two-leg trial into the existing, empty ``directory``."""
-    urdf = write_lower_body_urdf(result, directory)
+def write_bilateral_outputs(
+    result: BilateralResult,
+    directory: Path,
+    *,
+    files: frozenset[str] = frozenset(OUTPUT_FILES),
+    exports: tuple[str, ...] = (),
+) -> list[str]:
+    """Write the outputs of a processed two-leg trial into the existing, empty ``directory``.
+
+    Args:
+        result: the processed trial.
+        directory: an existing, empty folder.
+        files: short names (:data:`~lowerlimb.io.result_files.OUTPUT_FILES`) of the files to
+            write; ``s2j`` does not apply to two legs. ``events.csv``, ``stationary.csv`` and
+            ``gait.json`` are always written.
+        exports: extra formats (``opensim``, ``bids``; :mod:`lowerlimb.export.bilateral`).
+
+    Returns:
+        The names of the files written.
+    """
+    from .export.bilateral import write_bilateral_exports, write_bilateral_units_sidecars
+
+    written: list[str] = []
+    urdf = write_lower_body_urdf(result, directory) if "urdf" in files else []
+    written += urdf
     d = result.calibration_dict()
     d["urdf"] = urdf
-    (directory / "calibration.json").write_text(json.dumps(d, indent=2), encoding="utf-8")
-    write_bilateral_tables(directory, result.trial.time_s, result.angles_rad, result.positions_m)
-    write_events_csv(result.gait.events or GaitEvents(), directory / "events.csv")
-    write_stationary_csv(result.gait.events or GaitEvents(), directory / "stationary.csv")
+    if "calibration" in files:
+        (directory / "calibration.json").write_text(json.dumps(d, indent=2), encoding="utf-8")
+        written.append("calibration.json")
+    tables = [t for t in ("angles", "positions") if t in files]
+    if tables:
+        write_bilateral_tables(directory, result.trial.time_s, result.angles_rad, result.positions_m, tables)
+        written += [f"{t}.csv" for t in tables] + write_bilateral_units_sidecars(directory, tables)
+    events = result.gait.events or GaitEvents()
+    write_events_csv(events, directory / "events.csv")
+    write_stationary_csv(events, directory / "stationary.csv")
     (directory / "gait.json").write_text(json.dumps(result.gait.to_dict(), indent=2) + "\n", encoding="utf-8")
-    _write_report(result, directory, d)
+    written += ["events.csv", "stationary.csv", "gait.json"]
+    if "report" in files:
+        _write_report(result, directory, d)
+        written.append("report.html")
+    return written + write_bilateral_exports(result, directory, exports)
 
 
-def write_bilateral_result(result: BilateralResult, out: Path) -> None:
-    """Create the folder ``out`` holding every output of ``result``, or nothing at all.
+def write_bilateral_result(
+    result: BilateralResult,
+    out: Path,
+    *,
+    files: frozenset[str] = frozenset(OUTPUT_FILES),
+    exports: tuple[str, ...] = (),
+) -> None:
+    """Create the folder ``out`` holding the chosen outputs of ``result``, or nothing at all.
+
+    ``files`` and ``exports`` as in :func:`write_bilateral_outputs`.
 
     Raises:
         InputError: ``out`` exists and is not empty, or its parent does not exist.
     """
-    populate_directory(out, lambda d: write_bilateral_outputs(result, d))
+
+    def fill(d: Path) -> None:
+        write_bilateral_outputs(result, d, files=files, exports=exports)
+
+    populate_directory(out, fill)
 
 
 def _summary_rows(result: BilateralResult) -> str:
@@ -160,8 +204,9 @@ def _write_report(result: BilateralResult, directory: Path, calibration: dict[st
 def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
     """Calibrate a two-leg trial file and write its result folder; progress and warnings go to stderr.
 
-    ``options.side`` is not used (a two-leg trial has both); ``--calibration`` and ``--s2j``
-    are single-leg options and are refused.
+    ``options.side`` is not used (a two-leg trial has both); ``--calibration``, ``--s2j`` and
+    ``--reference`` are single-leg options and are refused; ``--outputs``/``--no-report`` and
+    ``--export`` apply as for one leg.
 
     Raises:
         InputError: bad trial, bad or single-leg-only options, or an existing non-empty folder.
@@ -172,9 +217,7 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
     single_leg_only = (
         (options.calibration, "--calibration"),
         (options.s2j, "--s2j"),
-        (options.exports or None, "--export"),
         (options.reference, "--reference"),
-        (None if set(options.outputs) == set(OUTPUT_FILES) else options.outputs, "--outputs/--no-report"),
     )
     for given, flag in single_leg_only:
         if given is not None:
@@ -199,7 +242,7 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
             side_check=options.side_check,
         )
     _print_warnings(caught)
-    write_bilateral_result(result, out)
+    write_bilateral_result(result, out, files=frozenset(options.outputs), exports=tuple(options.exports))
     print(f"joint calibration of both legs took {result.runtime_s:.3f} s; wrote {out}/", file=sys.stderr)
     for side in SIDES:
         for line in residual_lines(result.legs[side].calibration_dict()):

@@ -210,3 +210,36 @@ def test_calibrate_writes_only_the_chosen_outputs(tmp_path):
     assert (
         main(["calibrate", str(tmp_path / "t.csv"), "--out", str(tmp_path / "p"), "--outputs", "angels"]) == 2
     )
+
+
+def test_a_study_mixing_one_leg_and_two_leg_trials(tmp_path):
+    from lowerlimb.simulation import simulate_bilateral
+
+    root = tmp_path / "in"
+    root.mkdir()
+    simcache.cached_simulation("walk", 12.0, seed=0).trial.to_csv(root / "leg.csv")
+    simulate_bilateral(20.0, seed=1).trial.to_csv(root / "both.csv")
+    rows = "trial,subject,side,calibration\nleg.csv,s1,left,\nboth.csv,s1,right,\n"
+    (root / "manifest.csv").write_text(rows)
+    out = tmp_path / "out"
+    params = BatchParams(workers=1, outputs=frozenset(OUTPUT_FILES) - {"report"})
+    result = run_study(root / "manifest.csv", out, params)
+    assert result.processed == 2
+    by_trial = {r["trial"]: r for r in _read_batch_csv(out)}
+    two = by_trial["both.csv"]
+    assert two["status"] in ("ok", "warning") and two["side"] == "both"
+    assert 380 < float(two["left_thigh_length_mm"]) < 470 and 380 < float(two["right_thigh_length_mm"]) < 470
+    assert float(two["cadence_steps_per_min"]) > 60 and float(two["stride_length_m"]) > 0.5
+    folder = {p.name for p in (out / two["folder"]).iterdir()}
+    assert {"events.csv", "stationary.csv", "gait.json", "calibrated.urdf", "angles.units.json"} <= folder
+    assert "s2j.json" not in folder and "report.html" not in folder
+    assert by_trial["leg.csv"]["side"] == "left" and "s2j.json" in {p.name for p in (out / "leg").iterdir()}
+    # up to date on a re-run, although a two-leg folder has no s2j.json
+    assert run_study(root / "manifest.csv", out, params).processed == 0
+    # calibration reuse does not apply to two legs: that trial fails with one clear reason
+    (root / "manifest.csv").write_text(
+        rows.replace("both.csv,s1,right,", f"both.csv,s1,right,{out}/leg/calibration.json")
+    )
+    run_study(root / "manifest.csv", out, params)
+    two = {r["trial"]: r for r in _read_batch_csv(out)}["both.csv"]
+    assert two["status"] == "failed" and "single-leg option" in two["reason"]

@@ -115,14 +115,48 @@ def test_side_and_single_leg_options_are_refused_for_two_legs(two_legs, tmp_path
     for extra, words in (
         (["--side", "right"], "is a two-leg trial"),
         (["--calibration", str(csv)], "--calibration is a single-leg option"),
-        (["--export", "opensim"], "--export is a single-leg option"),
-        (["--no-report"], "--outputs/--no-report is a single-leg option"),
+        (["--reference", str(csv)], "--reference is a single-leg option"),
+        (["--export", "fbx"], "invalid choice"),
         (["--height", "inf"], "--height"),
     ):
         r = _cli("calibrate", str(csv), "--out", str(tmp_path / "o"), *extra)
         assert r.returncode == 2, r.stderr
         assert words in r.stderr and len(r.stderr.strip().splitlines()) == 1
         assert not (tmp_path / "o").exists()
+
+
+def test_exports_and_chosen_outputs_of_two_legs(two_legs, tmp_path: Path):
+    csv, _ = two_legs
+    out = tmp_path / "ex"
+    r = _cli(
+        "calibrate", str(csv), "--out", str(out), "--export", "opensim", "--export", "bids", "--no-report"
+    )
+    assert r.returncode == 0, r.stderr
+    names = {p.name for p in out.iterdir()}
+    assert "report.html" not in names and {"angles.mot", "orientations.sto", "events.csv"} <= names
+    assert {"angles.units.json", "positions.units.json"} <= names
+    mot = (out / "angles.mot").read_text().splitlines()
+    header = mot[mot.index("endheader") + 1].split("\t")
+    assert {"knee_angle_l", "knee_angle_r", "hip_flexion_l", "hip_flexion_r"} <= set(header)
+    sto = (out / "orientations.sto").read_text().splitlines()
+    labels = sto[sto.index("endheader") + 1].split("\t")
+    assert labels == ["time", "pelvis_imu", "femur_l_imu", "tibia_l_imu", "calcn_l_imu"] + [
+        "femur_r_imu",
+        "tibia_r_imu",
+        "calcn_r_imu",
+    ]
+    channels = next(out.glob("*_channels.tsv")).read_text()
+    assert "left_foot_to_right_foot_x" in channels and "right_knee_flexion" in channels
+    only = tmp_path / "only"
+    r = _cli("calibrate", str(csv), "--out", str(only), "--outputs", "angles")
+    assert r.returncode == 0, r.stderr
+    assert {p.name for p in only.iterdir()} == {
+        "angles.csv",
+        "angles.units.json",
+        "events.csv",
+        "stationary.csv",
+        "gait.json",
+    }
 
 
 def test_outputs_have_the_two_leg_columns_and_keys(two_legs):

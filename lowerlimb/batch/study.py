@@ -215,7 +215,7 @@ def _plan(trial: StudyTrial, root: Path, p: BatchParams) -> tuple[TrialOutcome |
         return TrialOutcome.failed(trial, reason, "input", ""), None
     if not p.force:
         done = read_record(root / trial.name / MARKER)
-        if done is not None and done.input_hash == digest and _complete(root / trial.name, p):
+        if done is not None and done.input_hash == digest and _complete(root / trial.name, p, done.side):
             done.skipped = True
             return done, None
         failed = read_record(root / FAILED_DIR / f"{trial.name}.json")
@@ -225,8 +225,10 @@ def _plan(trial: StudyTrial, root: Path, p: BatchParams) -> tuple[TrialOutcome |
     return None, TrialJob(trial, p, root, digest)
 
 
-def _complete(folder: Path, p: BatchParams) -> bool:
-    return all((folder / OUTPUT_FILES[name]).is_file() for name in p.outputs)
+def _complete(folder: Path, p: BatchParams, side: str = "") -> bool:
+    """Whether ``folder`` has every chosen output (a two-leg trial, side ``both``, has no ``s2j``)."""
+    names = p.outputs - {"s2j"} if side == "both" else p.outputs
+    return all((folder / OUTPUT_FILES[name]).is_file() for name in names)
 
 
 def _record(root: Path, outcome: TrialOutcome) -> None:

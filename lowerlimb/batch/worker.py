@@ -1,7 +1,8 @@
 """Processing one trial of a study, in whatever process runs it: never raises, always an outcome.
 
 :func:`run_trial` is what the local pool and the Dask workers call. It reads the
-trial, runs :func:`lowerlimb.process_trial`, writes the chosen outputs and the record
+trial, runs :func:`lowerlimb.process_trial` (or, for a seven-sensor trial,
+:func:`lowerlimb.bilateral.process_bilateral_trial`), writes the chosen outputs and the record
 into a staging folder and renames it into place (:mod:`lowerlimb.io.atomic`), so a
 trial's folder is complete or absent. Any error becomes a ``failed`` outcome.
 """
@@ -20,38 +21,35 @@ from pathlib import Path
 
 import numpy as np
 
+from lowerlimb.bilateral import BilateralResult, process_bilateral_trial
 from lowerlimb.conventions import ANGLE_COLUMNS
 from lowerlimb.errors import InputError
+from lowerlimb.io.bilateral_trial import BilateralTrial, read_header, trial_layout
 from lowerlimb.io.trial import ImuTrial
 from lowerlimb.outputs import read_calibration, write_outputs
 from lowerlimb.pipeline import TrialResult, process_trial
 
 from .record import MARKER, TrialJob, TrialOutcome
 
-__all__ = ["key_results", "run_trial"]
+__all__ = ["bilateral_key_results", "key_results", "run_trial"]
 
 #: Errors that mean the trial or its options are bad (a re-run gives the same).
 _INPUT_ERRORS = (InputError, FileNotFoundError, IsADirectoryError, PermissionError, UnicodeDecodeError)
 
 
 def run_trial(job: TrialJob) -> TrialOutcome:
-    """Process one trial and write its folder ``job.out / job.trial.name``; never raises."""
+    """Process one trial and write its folder ``job.out / job.trial.name``; never raises.
+
+    The trial's header decides the layout: four sensors (one leg, :func:`lowerlimb.process_trial`)
+    or seven (both legs, :func:`lowerlimb.bilateral.process_bilateral_trial`; the manifest's
+    ``side`` does not apply and ``calibration`` reuse is refused).
+    """
     t0, cpu0 = time.perf_counter(), time.process_time()
-    trial, p = job.trial, job.params
+    trial = job.trial
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            imu = ImuTrial.from_csv(trial.path, side=trial.side)
-            previous = None if trial.calibration is None else read_calibration(trial.calibration)
-            result = process_trial(
-                imu,
-                method=p.method,
-                filter_name=p.filter_name,
-                height_m=trial.height_m,
-                mass_kg=trial.mass_kg,
-                use_mag=p.use_mag,
-                calibration=previous,
-            )
+            results, write = _process(job)
         reason = _warning_line(caught)
         outcome = TrialOutcome(
             trial.name,
@@ -63,15 +61,15 @@ def run_trial(job: TrialJob) -> TrialOutcome:
             math.nan,
             trial.subject,
             trial.task,
-            trial.side,
-            key_results(result),
+            "both" if "left_thigh_length_mm" in results else trial.side,
+            results,
             job.digest,
             "",
             job.attempt,
         )
 
         def fill(d: Path) -> None:
-            write_outputs(result, d, files=p.outputs)
+            write(d)
             outcome.wall_s = time.perf_counter() - t0
             outcome.cpu_s = time.process_time() - cpu0
             outcome.peak_rss_mb = peak_rss_mb()
@@ -85,6 +83,77 @@ def run_trial(job: TrialJob) -> TrialOutcome:
         return _failed(job, _one_line(e), "input", t0)
     except Exception as e:  # a bug or a solver failure: recorded, the study goes on
         return _failed(job, f"internal error ({type(e).__name__}): {_one_line(e)}", "internal", t0)
+
+
+def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
+    """Process the trial of ``job``: its key results and the writer of its outputs.
+
+    Raises:
+        InputError: a bad trial or manifest row (e.g. ``calibration`` reuse for two legs).
+    """
+    trial, p = job.trial, job.params
+    if trial_layout(read_header(trial.path)) == "two_legs":
+        if trial.calibration is not None:
+            raise InputError(
+                "calibration reuse is a single-leg option; a two-leg trial is calibrated on itself "
+                "(clear the manifest's calibration cell for it)"
+            )
+        both = process_bilateral_trial(
+            BilateralTrial.from_csv(trial.path),
+            method=p.method,
+            filter_name=p.filter_name,
+            height_m=trial.height_m,
+            mass_kg=trial.mass_kg,
+            use_mag=p.use_mag,
+        )
+        return bilateral_key_results(both), lambda d: _write_two_legs(both, d, p.outputs)
+    imu = ImuTrial.from_csv(trial.path, side=trial.side)
+    previous = None if trial.calibration is None else read_calibration(trial.calibration)
+    result = process_trial(
+        imu,
+        method=p.method,
+        filter_name=p.filter_name,
+        height_m=trial.height_m,
+        mass_kg=trial.mass_kg,
+        use_mag=p.use_mag,
+        calibration=previous,
+    )
+    return key_results(result), lambda d: write_outputs(result, d, files=p.outputs)
+
+
+def _write_two_legs(result: BilateralResult, directory: Path, files: frozenset[str]) -> None:
+    from lowerlimb.outputs_bilateral import write_bilateral_outputs
+
+    write_bilateral_outputs(result, directory, files=files)
+
+
+def bilateral_key_results(result: BilateralResult) -> dict[str, float]:
+    """``batch.csv``'s key results of a processed two-leg trial.
+
+    Returns:
+        ``duration_s``; each leg's :func:`key_results` with a ``left_``/``right_`` prefix;
+        ``thigh_length_mm`` and ``shank_length_mm`` as the mean of the two legs (so that
+        the per-subject summaries include two-leg trials); and from ``gait.json``
+        ``cadence_steps_per_min``, ``gait_speed_m_s`` and ``stride_length_m`` (mean of the
+        two legs' straight strides; NaN without walking).
+    """
+    legs = {side: key_results(result.legs[side]) for side in ("left", "right")}
+    out: dict[str, float] = {"duration_s": legs["left"]["duration_s"]}
+    for name in ("thigh_length_mm", "shank_length_mm"):
+        out[name] = round(0.5 * (legs["left"][name] + legs["right"][name]), 2)
+    for side, values in legs.items():
+        out |= {f"{side}_{k}": v for k, v in values.items() if k != "duration_s"}
+    gait = result.gait.to_dict()
+    strides = [gait.get(side, {}).get("stride_length_m", {}).get("mean") for side in ("left", "right")]
+    finite = [float(v) for v in strides if isinstance(v, int | float) and math.isfinite(v)]
+    out["cadence_steps_per_min"] = _rounded(gait.get("cadence_steps_per_min"))
+    out["gait_speed_m_s"] = _rounded(gait.get("gait_speed_m_s"))
+    out["stride_length_m"] = round(float(np.mean(finite)), 4) if finite else math.nan
+    return out
+
+
+def _rounded(v: object, digits: int = 4) -> float:
+    return round(float(v), digits) if isinstance(v, int | float) and math.isfinite(v) else math.nan
 
 
 def key_results(result: TrialResult) -> dict[str, float]:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -66,8 +67,9 @@ def write_bilateral_tables(
     time_s: FloatArray,
     angles_rad: FloatArray,
     positions_m: FloatArray,
+    tables: Sequence[str] = ("angles", "positions"),
 ) -> None:
-    """Write ``angles.csv`` and ``positions.csv`` of a two-leg trial into ``directory``.
+    """Write ``angles.csv`` and/or ``positions.csv`` (``tables``) of a two-leg trial into ``directory``.
 
     Args:
         directory: an existing folder.
@@ -75,7 +77,10 @@ def write_bilateral_tables(
         angles_rad: (N, 18) joint angles, rad, in :data:`BILATERAL_ANGLE_COLUMNS` order (degrees on disk).
         positions_m: (N, 15) vectors in the pelvis sensor frame, m, in
             :data:`BILATERAL_POSITION_COLUMNS` order.
+        tables: which of ``"angles"``, ``"positions"`` to write.
     """
     d = os.fspath(directory)
-    write_bilateral_angles_csv(os.path.join(d, "angles.csv"), time_s, angles_rad)
-    write_bilateral_positions_csv(os.path.join(d, "positions.csv"), time_s, positions_m)
+    if "angles" in tables:
+        write_bilateral_angles_csv(os.path.join(d, "angles.csv"), time_s, angles_rad)
+    if "positions" in tables:
+        write_bilateral_positions_csv(os.path.join(d, "positions.csv"), time_s, positions_m)
