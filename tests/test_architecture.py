@@ -32,9 +32,11 @@ LAYERS: list[set[str]] = [
     {"model"},
     {"simulation"},
     {"pipeline"},
-    {"viz", "export", "agreement", "bilateral"},
+    {"bilateral"},
+    {"viz", "export", "agreement"},
     {"outputs"},
-    {"demo", "outputs_bilateral", "batch"},
+    {"demo", "outputs_bilateral"},
+    {"batch"},
     {"cli"},
 ]
 LAYER_OF = {unit: k for k, layer in enumerate(LAYERS) for unit in layer}
