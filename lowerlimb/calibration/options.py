@@ -49,6 +49,11 @@ class CalibrationOptions:
         rigid_band_min_hz: lowest cap, Hz.
         rigid_band_trigger: a sensor is capped only when its adaptive cut-off
             exceeds this multiple of the cap (else its own slow motion limits it).
+        shared_joint_cutoff: filter both sensors of a joint at one cut-off, the
+            higher of their two (each after the rigid-band cap): the constraint
+            compares what both sensors see of the joint, and different filters
+            on the two sides break it (:mod:`~lowerlimb.calibration.joint_cutoff`;
+            ``False``: each sensor keeps its own cut-off, as before).
         angacc_window_s: Savitzky–Golay window of the gyro derivative, s.
         angacc_polyorder: Savitzky–Golay polynomial order.
         remove_gyro_bias: subtract the mean gyro of a still period detected at the
@@ -113,6 +118,7 @@ class CalibrationOptions:
     rigid_band_factor: float = 1.0
     rigid_band_min_hz: float = 2.0
     rigid_band_trigger: float = 3.0
+    shared_joint_cutoff: bool = True
     angacc_window_s: float = DEFAULT_WINDOW_S
     angacc_polyorder: int = DEFAULT_POLYORDER
     remove_gyro_bias: bool = True
