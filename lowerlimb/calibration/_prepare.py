@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -12,6 +12,7 @@ from lowerlimb.calibration.joint_cutoff import joint_cutoffs_hz
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.constraints.angular_acceleration import angular_acceleration, window_length
 from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass, rigid_band_hz
+from lowerlimb.constraints.regressor_noise import filter_noise_gains, white_noise_std
 from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import MAX_GYRO_RAD_S as GYRO_DEG_PER_S_THRESHOLD
 from lowerlimb.conventions import MIN_MEDIAN_ACC_MPS2, FloatArray
@@ -116,6 +117,11 @@ class PreparedSignals:
         cutoff_hz: ``{sensor: cut-off}`` of the prefilter, Hz (``None``: unfiltered).
         gyro_noise_std: ``{sensor: σ}`` gyro white noise per axis during the still
             period, rad/s (``None`` without a still period).
+        regressor_noise: ``{sensor: (σ_ω, σ_α)}`` white noise per axis of the
+            filtered gyro (rad/s) and of α (rad/s²), from the still period's
+            first differences through the filter chain
+            (:mod:`~lowerlimb.constraints.regressor_noise`; ``(0, 0)`` without a
+            still period).
     """
 
     rate_hz: float
@@ -126,6 +132,7 @@ class PreparedSignals:
     n_still: int
     cutoff_hz: dict[str, float | None]
     gyro_noise_std: dict[str, float | None]
+    regressor_noise: dict[str, tuple[float, float]] = field(default_factory=dict)
 
 
 def prepare_signals(
@@ -189,7 +196,14 @@ def prepare_signals(
         )
         for k, g in gyr_c.items()
     }
-    return PreparedSignals(rate_hz, acc_f, gyr_c, angacc, bias, n_still, cutoff, noise)
+    regressor: dict[str, tuple[float, float]] = {}
+    for k, g in gyr.items():
+        white = white_noise_std(g[:n_still]) or 0.0
+        gains = filter_noise_gains(
+            float(rate_hz), cutoff[k], options.angacc_window_s, options.angacc_polyorder
+        )
+        regressor[k] = (white * gains[0], white * gains[1])
+    return PreparedSignals(rate_hz, acc_f, gyr_c, angacc, bias, n_still, cutoff, noise, regressor)
 
 
 def rigid_band_cap_hz(
@@ -269,6 +283,8 @@ def pair_data(sig: PreparedSignals, parent: str = "p", child: str = "c") -> Sphe
         sig.acc[child],
         sig.gyr[child],
         sig.angacc[child],
+        *sig.regressor_noise.get(parent, (0.0, 0.0)),
+        *sig.regressor_noise.get(child, (0.0, 0.0)),
     )
 
 

@@ -84,6 +84,14 @@ class CalibrationOptions:
             spherical covariance, m/s² (noise-free data would otherwise report
             zero uncertainty even when a direction is unobservable).
         noise_floor_rps: the same for the hinge residual, rad/s.
+        noise_correction: subtract the expected gyro-noise part of the spherical
+            cost (errors in variables: the corrected score of Nakamura 1990,
+            :mod:`~lowerlimb.calibration.noise_correction`), with the white-noise
+            level of each gyro measured in the still start.
+        noise_correction_max_fraction: the correction removes at most this
+            fraction of the data's information ``JᵀJ`` along any direction (a
+            capped corrected moment matrix, as Fuller 1987 §2.5 modifies the
+            corrected estimator where it would lose its minimum).
         center_std_tol_m: warn when a joint centre's standard deviation along its
             weakest direction exceeds this, m.
         axis_std_tol_deg: warn when the hinge axis's standard deviation exceeds this, deg.
@@ -137,6 +145,8 @@ class CalibrationOptions:
     seed: int = 0
     noise_floor_mps2: float = 0.1
     noise_floor_rps: float = 0.015
+    noise_correction: bool = True
+    noise_correction_max_fraction: float = 0.5
     center_std_tol_m: float = 0.015
     axis_std_tol_deg: float = 1.0
     min_rms_rate_rps: float = 0.1
@@ -155,6 +165,10 @@ class CalibrationOptions:
         for name in ("prior_stature_m", "prior_std_along", "prior_std_across_m", "prior_std_axis_m"):
             if getattr(self, name) <= 0:
                 raise InputError(f"{name} must be > 0, got {getattr(self, name)}")
+        if not 0.0 < self.noise_correction_max_fraction < 1.0:
+            raise InputError(
+                f"noise_correction_max_fraction must be in (0, 1), got {self.noise_correction_max_fraction}"
+            )
         if self.center_bound_m <= 0:
             raise InputError(f"center_bound_m must be > 0 m, got {self.center_bound_m}")
         for name in (
