@@ -21,8 +21,11 @@ the expectation: minimise
     F(x) = Σ e(x)² − xᵀ Q(x) x,       Q = blockdiag(Q_P, Q_C),
 
 with ``Q_S = Σ_t [σ_α,S² (I − ĝĝᵀ) + σ_ω,S² M_Sᵀ M_S]`` evaluated at the current
-centres (ĝ changes slowly with x). The noise levels come from the still start
-(:mod:`lowerlimb.constraints.regressor_noise`).
+centres (ĝ changes slowly with x). The noise also shifts the mean of each norm
+by ``tr((I − ĝĝᵀ) Σ_δ) / (2‖g‖)``; that shift is left out (in a Monte-Carlo
+check on a simulated walk's ankle, correcting it too moved the mean centre by
+less than the Monte-Carlo standard error, about 2 mm). The noise levels come
+from the still start (:mod:`lowerlimb.constraints.regressor_noise`).
 
 Where the noise's share of the information ``Q`` approaches the data's ``JᵀJ``
 the corrected cost loses its minimum (the moment matrix is no longer positive

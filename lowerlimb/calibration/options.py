@@ -89,9 +89,12 @@ class CalibrationOptions:
             :mod:`~lowerlimb.calibration.noise_correction`), with the white-noise
             level of each gyro measured in the still start.
         noise_correction_max_fraction: the correction removes at most this
-            fraction of the data's information ``JᵀJ`` along any direction (a
-            capped corrected moment matrix, as Fuller 1987 §2.5 modifies the
-            corrected estimator where it would lose its minimum).
+            fraction λ of the data's information ``JᵀJ`` along any direction.
+            The corrected estimator's standard deviation grows as 1/(1 − λ) and
+            it loses its minimum at λ = 1, so Fuller (1987, *Measurement Error
+            Models*, §2.5) limits the correction; 0.2 keeps the growth ≤ 1.25 and
+            scored as 0.5 did on simulated walks and squats
+            (``benchmarks/calibration_accuracy.py --option noise_correction_max_fraction=…``).
         center_std_tol_m: warn when a joint centre's standard deviation along its
             weakest direction exceeds this, m.
         axis_std_tol_deg: warn when the hinge axis's standard deviation exceeds this, deg.
@@ -146,7 +149,7 @@ class CalibrationOptions:
     noise_floor_mps2: float = 0.1
     noise_floor_rps: float = 0.015
     noise_correction: bool = True
-    noise_correction_max_fraction: float = 0.5
+    noise_correction_max_fraction: float = 0.2
     center_std_tol_m: float = 0.015
     axis_std_tol_deg: float = 1.0
     min_rms_rate_rps: float = 0.1
