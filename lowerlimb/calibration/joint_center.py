@@ -42,6 +42,7 @@ from lowerlimb.calibration.geometry import basis_with_first_axis
 from lowerlimb.calibration.noise_correction import corrected_gauss_newton
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import SphericalJointCalibration
+from lowerlimb.calibration.robust_weights import huber_weights
 from lowerlimb.calibration.segment_prior import CenterPrior
 from lowerlimb.constraints.spherical import (
     AXIS_GAUGE_MAP,
@@ -106,57 +107,26 @@ def _direction_text(v: FloatArray) -> str:
     return "(" + ", ".join(f"{c:+.2f}" for c in u) + f") [weight {n:.2f}]"
 
 
-def _refine(
-    data: SphericalData, x0: FloatArray, prior: CenterPrior | None, options: CalibrationOptions
+def _refine_weighted(
+    data: SphericalData,
+    starts: list[FloatArray],
+    rows: Callable[[FloatArray], tuple[FloatArray, FloatArray]] | None,
+    sqrt_w: FloatArray,
+    options: CalibrationOptions,
 ) -> tuple[FloatArray, FloatArray | None]:
-    """The MAP and/or noise-corrected centres, refined from the data-only solution.
-
-    With a prior: eq. 7 plus the prior's rows. The prior rows are scaled by the
-    data's noise per independent sample, σ √τ (σ: RMS residual of the data-only
-    fit, floored at ``noise_floor_mps2``; τ: its correlation time), so that
-    ``Σ e² + σ²τ ‖W (c − μ)‖²`` is (σ²τ times) the negative log posterior.
-    Starts: the data-only solution, and the same with the prior's centre put at
-    the prior mean; the lower cost wins.
-
-    With ``options.noise_correction``: the expected regressor-noise part of
-    ``Σ e²`` is subtracted (:mod:`~lowerlimb.calibration.noise_correction`).
-
-    Args:
-        data: the pair's prepared signals (with their regressor noise levels).
-        x0: (6,) data-only solution ``(c_P, c_C)``, sensor frames, m.
-        prior: the prior on one of the two centres, or ``None``.
-        options: calibration options (solver limits, noise floor, search box).
-
-    Returns:
-        (6,) refined ``(c_P, c_C)``, m, and the (6, 6) noise information
-        subtracted at it (``None`` without the correction).
-    """
-    n_data = data.n_samples
-    rows: Callable[[FloatArray], tuple[FloatArray, FloatArray]] | None = None
-    if prior is not None:
-        r0 = spherical_residual(x0, data)
-        sigma = max(float(np.sqrt(np.mean(r0**2))), options.noise_floor_mps2)
-        scale = options.prior_weight * sigma * float(np.sqrt(correlation_time(r0)))
-        p = prior
-
-        def rows(x: FloatArray) -> tuple[FloatArray, FloatArray]:
-            return p.rows(x, scale)
+    """A weighted (with ``noise_correction``: corrected) solve from each start; the lowest cost wins."""
 
     def residual(x: FloatArray) -> FloatArray:
-        r = spherical_residual(x, data)
+        r = sqrt_w * spherical_residual(x, data)
         return r if rows is None else np.concatenate([r, rows(x)[0]])
 
     def jacobian(x: FloatArray) -> FloatArray:
-        J = spherical_jacobian(x, data)
+        J = sqrt_w[:, None] * spherical_jacobian(x, data)
         return J if rows is None else np.vstack([J, rows(x)[1]])
 
     b = options.center_bound_m
-    starts = [x0]
-    if prior is not None:
-        x_alt = prior.selector().T @ (prior.mean - prior.selector() @ x0) + x0
-        starts.append(np.clip(x_alt, -b, b))
     correct = options.noise_correction and any(v > 0 for v in data.noise_levels)
-    best, best_cost, best_Q = x0, float("inf"), None
+    best, best_cost, best_Q = starts[0], float("inf"), None
     for start in starts:
         Q = None
         if correct:
@@ -165,7 +135,8 @@ def _refine(
                 jacobian,
                 data,
                 start,
-                n_data=n_data,
+                n_data=data.n_samples,
+                weights=sqrt_w**2,
                 max_fraction=options.noise_correction_max_fraction,
                 bound=b,
                 max_iter=options.max_iter,
@@ -192,6 +163,68 @@ def _refine(
         if cost < best_cost:
             best, best_cost, best_Q = x, cost, Q
     return best, best_Q
+
+
+def _refine(
+    data: SphericalData, x0: FloatArray, prior: CenterPrior | None, options: CalibrationOptions
+) -> tuple[FloatArray, FloatArray | None, FloatArray]:
+    """The robust, MAP and/or noise-corrected centres, refined from the data-only solution.
+
+    With ``options.robust``: Huber weights of the residual
+    (:mod:`~lowerlimb.calibration.robust_weights`), re-computed at each pass's
+    solution (iteratively reweighted least squares, at most ``robust_passes``).
+
+    With a prior: eq. 7 plus the prior's rows. The prior rows are scaled by the
+    data's noise per independent sample, σ √τ (σ: RMS residual of the data-only
+    fit, floored at ``noise_floor_mps2``; τ: its correlation time), so that
+    ``Σ e² + σ²τ ‖W (c − μ)‖²`` is (σ²τ times) the negative log posterior.
+    Starts: the data-only solution, and the same with the prior's centre put at
+    the prior mean; the lower cost wins.
+
+    With ``options.noise_correction``: the expected regressor-noise part of
+    ``Σ e²`` is subtracted (:mod:`~lowerlimb.calibration.noise_correction`).
+
+    Args:
+        data: the pair's prepared signals (with their regressor noise levels).
+        x0: (6,) data-only solution ``(c_P, c_C)``, sensor frames, m.
+        prior: the prior on one of the two centres, or ``None``.
+        options: calibration options (solver limits, noise floor, search box).
+
+    Returns:
+        (6,) refined ``(c_P, c_C)``, m; the (6, 6) noise information subtracted at
+        it (``None`` without the correction); the (N,) sample weights (all 1
+        without ``robust``).
+    """
+    rows: Callable[[FloatArray], tuple[FloatArray, FloatArray]] | None = None
+    r0 = spherical_residual(x0, data)
+    if prior is not None:
+        sigma = max(float(np.sqrt(np.mean(r0**2))), options.noise_floor_mps2)
+        scale = options.prior_weight * sigma * float(np.sqrt(correlation_time(r0)))
+        p = prior
+
+        def rows(x: FloatArray) -> tuple[FloatArray, FloatArray]:
+            return p.rows(x, scale)
+
+    b = options.center_bound_m
+    starts = [x0]
+    if prior is not None:
+        x_alt = prior.selector().T @ (prior.mean - prior.selector() @ x0) + x0
+        starts.append(np.clip(x_alt, -b, b))
+    w = np.ones(data.n_samples)
+    x, Q = x0, None
+    for _ in range(options.robust_passes if options.robust else 1):
+        if options.robust:
+            w = huber_weights(spherical_residual(x, data), options.huber_k, floor=options.noise_floor_mps2)
+        x_new, Q = _refine_weighted(data, starts, rows, np.sqrt(w), options)
+        moved = float(np.linalg.norm(x_new - x))
+        x, starts = x_new, [x_new]
+        if moved < _ROBUST_TOL_M:
+            break
+    return x, Q, w
+
+
+#: The reweighting stops when a pass moves the centres less than this, m.
+_ROBUST_TOL_M = 1e-5
 
 
 def _corrected_jacobian(J: FloatArray, Q: FloatArray | None) -> FloatArray:
@@ -264,11 +297,15 @@ def fit_spherical(
     if gauge_axes is None:
         x = np.asarray(result.x, dtype=float).copy()
         Q = None
-        if prior is not None or options.noise_correction:
-            x, Q = _refine(data, x, prior, options)
+        sqrt_w = np.ones(data.n_samples)
+        if prior is not None or options.noise_correction or options.robust:
+            x, Q, w = _refine(data, x, prior, options)
+            sqrt_w = np.sqrt(w)
         r = spherical_residual(x, data)
         report = jacobian_report(
-            _corrected_jacobian(spherical_jacobian(x, data), Q), r, noise_floor=options.noise_floor_mps2
+            _corrected_jacobian(sqrt_w[:, None] * spherical_jacobian(x, data), Q),
+            sqrt_w * r,
+            noise_floor=options.noise_floor_mps2,
         )
     else:
         # y (5) -> x' (rotated frames) -> x = (Q_P c'_P, Q_C c'_C) (sensor frames)

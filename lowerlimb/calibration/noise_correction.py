@@ -69,29 +69,37 @@ class NoiseCorrection:
 
 
 def _sensor_block(
-    acc: FloatArray, gyr: FloatArray, angacc: FloatArray, c: FloatArray, s_gyr: float, s_alpha: float
+    acc: FloatArray,
+    gyr: FloatArray,
+    angacc: FloatArray,
+    c: FloatArray,
+    s_gyr: float,
+    s_alpha: float,
+    w: FloatArray,
 ) -> FloatArray:
     if s_gyr == 0.0 and s_alpha == 0.0:
         return np.zeros((3, 3))
     g = joint_acceleration(acc, gyr, angacc, c)
     gh = g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-9)
-    Q = s_alpha**2 * (gh.shape[0] * np.eye(3) - gh.T @ gh)
+    Q = s_alpha**2 * (float(np.sum(w)) * np.eye(3) - (gh * w[:, None]).T @ gh)
     if s_gyr > 0.0:
         M = skew(gh) @ skew(gyr) + skew(np.cross(gh, gyr))
-        Q = Q + s_gyr**2 * np.einsum("nki,nkj->ij", M, M)
+        Q = Q + s_gyr**2 * np.einsum("n,nki,nkj->ij", w, M, M)
     return np.asarray(Q, dtype=float)
 
 
-def noise_information(x: FloatArray, data: SphericalData) -> FloatArray:
-    """The quadratic form ``Q`` of the expected noise part of ``Σ e²`` at ``x``.
+def noise_information(x: FloatArray, data: SphericalData, weights: FloatArray | None = None) -> FloatArray:
+    """The quadratic form ``Q`` of the expected noise part of ``Σ w e²`` at ``x``.
 
     Args:
         x: (6,) ``(c_P, c_C)``, m.
         data: the pair's signals and their regressor noise levels.
+        weights: (N,) sample weights ``w`` (``None``: all 1).
 
     Returns:
-        (6, 6) block-diagonal ``Q`` such that ``E Σ e² ≈ Σ e₀² + xᵀ Q x``, 1/s⁴.
+        (6, 6) block-diagonal ``Q`` such that ``E Σ w e² ≈ Σ w e₀² + xᵀ Q x``, 1/s⁴.
     """
+    w = np.ones(data.n_samples) if weights is None else np.asarray(weights, dtype=float)
     Q = np.zeros((6, 6))
     Q[:3, :3] = _sensor_block(
         data.acc_parent,
@@ -100,6 +108,7 @@ def noise_information(x: FloatArray, data: SphericalData) -> FloatArray:
         x[:3],
         data.gyr_noise_parent,
         data.angacc_noise_parent,
+        w,
     )
     Q[3:, 3:] = _sensor_block(
         data.acc_child,
@@ -108,6 +117,7 @@ def noise_information(x: FloatArray, data: SphericalData) -> FloatArray:
         x[3:],
         data.gyr_noise_child,
         data.angacc_noise_child,
+        w,
     )
     return Q
 
@@ -142,6 +152,7 @@ def corrected_gauss_newton(
     x0: FloatArray,
     *,
     n_data: int,
+    weights: FloatArray | None = None,
     max_fraction: float,
     bound: float,
     max_iter: int,
@@ -160,6 +171,7 @@ def corrected_gauss_newton(
         data: the pair's signals with their noise levels.
         x0: (6,) start (the plain fit), m.
         n_data: number of eq. 7 rows.
+        weights: (n_data,) sample weights already applied to the rows (``None``: 1).
         max_fraction: cap of the correction (:func:`capped_noise_information`).
         bound: search box ``|x_i| ≤ bound``, m.
         max_iter: iteration limit.
@@ -172,7 +184,7 @@ def corrected_gauss_newton(
 
     def capped_q(x: FloatArray) -> tuple[FloatArray, float]:
         Jd = jacobian(x)[:n_data]
-        return capped_noise_information(noise_information(x, data), Jd.T @ Jd, max_fraction)
+        return capped_noise_information(noise_information(x, data, weights), Jd.T @ Jd, max_fraction)
 
     def cost(x: FloatArray, Q: FloatArray) -> float:
         r = residual(x)
