@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from lowerlimb.calibration.joint_cutoff import joint_cutoffs_hz
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.constraints.angular_acceleration import angular_acceleration, window_length
 from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass, rigid_band_hz
+from lowerlimb.constraints.regressor_noise import filter_noise_gains, white_noise_std
 from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import MAX_GYRO_RAD_S as GYRO_DEG_PER_S_THRESHOLD
 from lowerlimb.conventions import MIN_MEDIAN_ACC_MPS2, FloatArray
@@ -115,6 +117,11 @@ class PreparedSignals:
         cutoff_hz: ``{sensor: cut-off}`` of the prefilter, Hz (``None``: unfiltered).
         gyro_noise_std: ``{sensor: σ}`` gyro white noise per axis during the still
             period, rad/s (``None`` without a still period).
+        regressor_noise: ``{sensor: (σ_ω, σ_α)}`` white noise per axis of the
+            filtered gyro (rad/s) and of α (rad/s²), from the still period's
+            first differences through the filter chain
+            (:mod:`~lowerlimb.constraints.regressor_noise`; ``(0, 0)`` without a
+            still period).
     """
 
     rate_hz: float
@@ -125,6 +132,7 @@ class PreparedSignals:
     n_still: int
     cutoff_hz: dict[str, float | None]
     gyro_noise_std: dict[str, float | None]
+    regressor_noise: dict[str, tuple[float, float]] = field(default_factory=dict)
 
 
 def prepare_signals(
@@ -135,7 +143,7 @@ def prepare_signals(
     *,
     still: StillPeriod | None = None,
     n_still: int | None = None,
-    cap_hz: Mapping[str, float | None] | None = None,
+    set_hz: Mapping[str, float | None] | None = None,
 ) -> PreparedSignals:
     """Remove the gyro bias of a still start, low-pass (adaptively) and differentiate the gyros.
 
@@ -147,8 +155,9 @@ def prepare_signals(
         still: the still start when already detected on these signals (else detected here).
         n_still: the number of still samples when already decided (a sub-set of
             sensors of prepared signals: the same bias window; overrides ``still``).
-        cap_hz: ``{sensor: Hz or None}`` upper limits of the cut-offs (the rigid
-            band, :func:`rigid_band_cap_hz`; ``None``: no limit).
+        set_hz: ``{sensor: Hz or None}`` cut-offs decided by the caller (a joint's
+            cut-offs, :func:`~lowerlimb.calibration.joint_cutoff.joint_cutoffs_hz`;
+            ``None``: unfiltered); they replace those sensors' adaptive cut-offs.
 
     Returns:
         The prepared signals.
@@ -165,7 +174,9 @@ def prepare_signals(
     }
     cutoff: dict[str, float | None] = {}
     for k, g in gyr_c.items():
-        if not options.prefilter:
+        if set_hz is not None and k in set_hz:
+            cutoff[k] = set_hz[k]
+        elif not options.prefilter:
             cutoff[k] = None
         elif options.cutoff_hz is not None:
             cutoff[k] = options.cutoff_hz if options.cutoff_hz < 0.45 * rate_hz else None
@@ -177,9 +188,6 @@ def prepare_signals(
                 factor=options.cutoff_factor,
                 min_hz=options.min_cutoff_hz,
             )
-    for k, cap in (cap_hz or {}).items():
-        if cap is not None and (cutoff[k] is None or cutoff[k] > cap):  # type: ignore[operator]
-            cutoff[k] = cap
     gyr_c = {k: lowpass(g, rate_hz, cutoff[k]) for k, g in gyr_c.items()}
     acc_f = {k: lowpass(a, rate_hz, cutoff.get(k)) for k, a in acc.items()}
     angacc = {
@@ -188,7 +196,14 @@ def prepare_signals(
         )
         for k, g in gyr_c.items()
     }
-    return PreparedSignals(rate_hz, acc_f, gyr_c, angacc, bias, n_still, cutoff, noise)
+    regressor: dict[str, tuple[float, float]] = {}
+    for k, g in gyr.items():
+        white = white_noise_std(g[:n_still]) or 0.0
+        gains = filter_noise_gains(
+            float(rate_hz), cutoff[k], options.angacc_window_s, options.angacc_polyorder
+        )
+        regressor[k] = (white * gains[0], white * gains[1])
+    return PreparedSignals(rate_hz, acc_f, gyr_c, angacc, bias, n_still, cutoff, noise, regressor)
 
 
 def rigid_band_cap_hz(
@@ -204,19 +219,6 @@ def rigid_band_cap_hz(
     return cap if cap < 0.45 * rate_hz else None
 
 
-def _exceeds(cutoff: float | None, cap: float | None, options: CalibrationOptions) -> bool:
-    """Whether a sensor's cut-off reaches far enough above the rigid band to be capped.
-
-    A sensor whose noise-based bandwidth lies within ``rigid_band_trigger`` times
-    the band is limited by its own slow motion (a slow trial, little power
-    where the coherence is measured) and keeps its cut-off; one that reaches
-    far above it carries broadband incoherent content (wobble, impacts).
-    """
-    if cap is None:
-        return False
-    return cutoff is None or cutoff > options.rigid_band_trigger * cap
-
-
 def joint_signals(
     acc: Mapping[str, FloatArray],
     gyr: Mapping[str, FloatArray],
@@ -229,7 +231,11 @@ def joint_signals(
     *,
     own_band: bool = True,
 ) -> SphericalData:
-    """One joint's pair data, re-filtered where a sensor's rigid-band cap is below its cut-off.
+    """One joint's pair data, filtered at the joint's cut-offs (:mod:`~lowerlimb.calibration.joint_cutoff`).
+
+    A sensor whose adaptive cut-off reaches far above the joint's rigid-band cap
+    is capped; then (``options.shared_joint_cutoff``) both sensors take the
+    higher of the two cut-offs, so that both see the joint through one filter.
 
     Args:
         acc: ``{sensor: (N, 3)}`` raw accelerometer signals, m/s².
@@ -254,8 +260,8 @@ def joint_signals(
     cap = min(given) if given else None
     if caps is not None:
         caps[f"{parent}-{child}"] = cap
-    capped = {k: cap for k in (parent, child) if _exceeds(sig.cutoff_hz[k], cap, options)}
-    if not capped:
+    want = joint_cutoffs_hz(sig.cutoff_hz[parent], sig.cutoff_hz[child], cap, options)
+    if want == (sig.cutoff_hz[parent], sig.cutoff_hz[child]):
         return pair_data(sig, parent, child)
     sub = prepare_signals(
         {k: acc[k] for k in (parent, child)},
@@ -263,7 +269,7 @@ def joint_signals(
         sig.rate_hz,
         options,
         n_still=sig.n_still,
-        cap_hz=capped,
+        set_hz={parent: want[0], child: want[1]},
     )
     return pair_data(sub, parent, child)
 
@@ -277,6 +283,8 @@ def pair_data(sig: PreparedSignals, parent: str = "p", child: str = "c") -> Sphe
         sig.acc[child],
         sig.gyr[child],
         sig.angacc[child],
+        *sig.regressor_noise.get(parent, (0.0, 0.0)),
+        *sig.regressor_noise.get(child, (0.0, 0.0)),
     )
 
 

@@ -13,7 +13,10 @@ Pipeline (choices the paper leaves open are written here):
 2. gyro and accelerometer low-passed at a motion-adaptive cut-off, α by a
    Savitzky–Golay derivative (:mod:`lowerlimb.constraints.prefilter`,
    :mod:`lowerlimb.constraints.angular_acceleration`);
-3. ``min Σ e(t)²`` of eq. 7 with e = ‖g_P‖ − ‖g_C‖ (c = −V convention):
+3. ``min Σ e(t)²`` of eq. 7 with e = ‖g_P‖ − ‖g_C‖ (c = −V convention),
+   then, with ``noise_correction``, the same cost less its expected
+   regressor-noise part (errors in variables,
+   :mod:`~lowerlimb.calibration.noise_correction`) and a prior's rows:
    ``casadi`` and ``gn`` start from x = 0 (the sensors themselves; the cost
    is well-behaved there in practice), inside the box ``|c_i| ≤ center_bound_m``;
    the swarms search that box on at most ``swarm_samples`` samples;
@@ -24,6 +27,7 @@ Pipeline (choices the paper leaves open are written here):
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
@@ -35,8 +39,10 @@ from lowerlimb.calibration._rotation import low_rotation_messages
 from lowerlimb.calibration._solve import LsqProblem, solve_global, solve_local, subsample_step
 from lowerlimb.calibration.excitation import correlation_time, issue_warnings, jacobian_report
 from lowerlimb.calibration.geometry import basis_with_first_axis
+from lowerlimb.calibration.noise_correction import corrected_gauss_newton
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import SphericalJointCalibration
+from lowerlimb.calibration.robust_weights import huber_weights
 from lowerlimb.calibration.segment_prior import CenterPrior
 from lowerlimb.constraints.spherical import (
     AXIS_GAUGE_MAP,
@@ -101,58 +107,140 @@ def _direction_text(v: FloatArray) -> str:
     return "(" + ", ".join(f"{c:+.2f}" for c in u) + f") [weight {n:.2f}]"
 
 
-def _map_refine(
-    data: SphericalData, x0: FloatArray, prior: CenterPrior, options: CalibrationOptions
-) -> FloatArray:
-    """The MAP centres: eq. 7 plus the prior's rows, by NumPy Gauss–Newton.
+def _refine_weighted(
+    data: SphericalData,
+    starts: list[FloatArray],
+    rows: Callable[[FloatArray], tuple[FloatArray, FloatArray]] | None,
+    sqrt_w: FloatArray,
+    options: CalibrationOptions,
+) -> tuple[FloatArray, FloatArray | None]:
+    """A weighted (with ``noise_correction``: corrected) solve from each start; the lowest cost wins."""
 
-    The prior rows are scaled by the data's noise per independent sample, σ √τ
-    (σ: RMS residual of the data-only fit, floored at ``noise_floor_mps2``; τ: its
-    correlation time), so that ``Σ e² + σ²τ ‖W (c − μ)‖²`` is (σ²τ times) the
-    negative log posterior. Starts: the data-only solution, and the same with the
-    prior's centre put at the prior mean; the lower MAP cost wins.
+    def residual(x: FloatArray) -> FloatArray:
+        r = sqrt_w * spherical_residual(x, data)
+        return r if rows is None else np.concatenate([r, rows(x)[0]])
+
+    def jacobian(x: FloatArray) -> FloatArray:
+        J = sqrt_w[:, None] * spherical_jacobian(x, data)
+        return J if rows is None else np.vstack([J, rows(x)[1]])
+
+    b = options.center_bound_m
+    correct = options.noise_correction and any(v > 0 for v in data.noise_levels)
+    best, best_cost, best_Q = starts[0], float("inf"), None
+    for start in starts:
+        Q = None
+        if correct:
+            fit = corrected_gauss_newton(
+                residual,
+                jacobian,
+                data,
+                start,
+                n_data=data.n_samples,
+                weights=sqrt_w**2,
+                max_fraction=options.noise_correction_max_fraction,
+                bound=b,
+                max_iter=options.max_iter,
+                tol=options.tol,
+            )
+            x, Q = fit.x, fit.Q
+            cost = float(np.sum(residual(x) ** 2) - x @ Q @ x)
+        else:
+            try:
+                res = solvers.gauss_newton(
+                    residual,
+                    jacobian,
+                    start,
+                    max_iter=options.max_iter,
+                    tol=options.tol,
+                    step="line_search",
+                    lower=np.full(6, -b),
+                    upper=np.full(6, b),
+                )
+            except (solvers.SolverError, RuntimeError, ValueError) as e:
+                raise SolverError(f"the MAP refinement failed: {e}", method="gn") from e
+            x = np.asarray(res.x, dtype=float)
+            cost = float(np.sum(residual(x) ** 2))
+        if cost < best_cost:
+            best, best_cost, best_Q = x, cost, Q
+    return best, best_Q
+
+
+def _refine(
+    data: SphericalData, x0: FloatArray, prior: CenterPrior | None, options: CalibrationOptions
+) -> tuple[FloatArray, FloatArray | None, FloatArray]:
+    """The robust, MAP and/or noise-corrected centres, refined from the data-only solution.
+
+    With ``options.robust``: Huber weights of the residual
+    (:mod:`~lowerlimb.calibration.robust_weights`), re-computed at each pass's
+    solution (iteratively reweighted least squares, at most ``robust_passes``).
+
+    With a prior: eq. 7 plus the prior's rows. The prior rows are scaled by the
+    data's noise per independent sample, σ √τ (σ: RMS residual of the data-only
+    fit, floored at ``noise_floor_mps2``; τ: its correlation time), so that
+    ``Σ e² + σ²τ ‖W (c − μ)‖²`` is (σ²τ times) the negative log posterior.
+    Starts: the data-only solution, and the same with the prior's centre put at
+    the prior mean; the lower cost wins.
+
+    With ``options.noise_correction``: the expected regressor-noise part of
+    ``Σ e²`` is subtracted (:mod:`~lowerlimb.calibration.noise_correction`).
 
     Args:
-        data: the pair's prepared signals.
+        data: the pair's prepared signals (with their regressor noise levels).
         x0: (6,) data-only solution ``(c_P, c_C)``, sensor frames, m.
-        prior: the prior on one of the two centres.
+        prior: the prior on one of the two centres, or ``None``.
         options: calibration options (solver limits, noise floor, search box).
 
     Returns:
-        (6,) MAP ``(c_P, c_C)``, m.
+        (6,) refined ``(c_P, c_C)``, m; the (6, 6) noise information subtracted at
+        it (``None`` without the correction); the (N,) sample weights (all 1
+        without ``robust``).
     """
+    rows: Callable[[FloatArray], tuple[FloatArray, FloatArray]] | None = None
     r0 = spherical_residual(x0, data)
-    sigma = max(float(np.sqrt(np.mean(r0**2))), options.noise_floor_mps2)
-    scale = options.prior_weight * sigma * float(np.sqrt(correlation_time(r0)))
+    if prior is not None:
+        sigma = max(float(np.sqrt(np.mean(r0**2))), options.noise_floor_mps2)
+        scale = options.prior_weight * sigma * float(np.sqrt(correlation_time(r0)))
+        p = prior
 
-    def residual(x: FloatArray) -> FloatArray:
-        return np.concatenate([spherical_residual(x, data), prior.rows(x, scale)[0]])
-
-    def jacobian(x: FloatArray) -> FloatArray:
-        return np.vstack([spherical_jacobian(x, data), prior.rows(x, scale)[1]])
+        def rows(x: FloatArray) -> tuple[FloatArray, FloatArray]:
+            return p.rows(x, scale)
 
     b = options.center_bound_m
-    x_alt = prior.selector().T @ (prior.mean - prior.selector() @ x0) + x0
-    best, best_cost = x0, float("inf")
-    for start in (x0, np.clip(x_alt, -b, b)):
-        try:
-            res = solvers.gauss_newton(
-                residual,
-                jacobian,
-                start,
-                max_iter=options.max_iter,
-                tol=options.tol,
-                step="line_search",
-                lower=np.full(6, -b),
-                upper=np.full(6, b),
-            )
-        except (solvers.SolverError, RuntimeError, ValueError) as e:
-            raise SolverError(f"the MAP refinement failed: {e}", method="gn") from e
-        x = np.asarray(res.x, dtype=float)
-        cost = float(np.sum(residual(x) ** 2))
-        if cost < best_cost:
-            best, best_cost = x, cost
-    return best
+    starts = [x0]
+    if prior is not None:
+        x_alt = prior.selector().T @ (prior.mean - prior.selector() @ x0) + x0
+        starts.append(np.clip(x_alt, -b, b))
+    w = np.ones(data.n_samples)
+    x, Q = x0, None
+    for _ in range(options.robust_passes if options.robust else 1):
+        if options.robust:
+            w = huber_weights(spherical_residual(x, data), options.huber_k, floor=options.noise_floor_mps2)
+        x_new, Q = _refine_weighted(data, starts, rows, np.sqrt(w), options)
+        moved = float(np.linalg.norm(x_new - x))
+        x, starts = x_new, [x_new]
+        if moved < _ROBUST_TOL_M:
+            break
+    return x, Q, w
+
+
+#: The reweighting stops when a pass moves the centres less than this, m.
+_ROBUST_TOL_M = 1e-5
+
+
+def _corrected_jacobian(J: FloatArray, Q: FloatArray | None) -> FloatArray:
+    """A Jacobian whose Gauss–Newton covariance is the corrected fit's sandwich covariance.
+
+    The corrected estimator solves ``(H − Q) Δ = …`` with ``H = JᵀJ``; its
+    covariance is ``σ² (H − Q)⁻¹ H (H − Q)⁻¹`` (the sandwich of an M-estimator,
+    Nakamura 1990), which is ``σ² (J_eᵀ J_e)⁻¹`` for ``J_e = J H⁻¹ (H − Q)``.
+    """
+    if Q is None:
+        return J
+    H = J.T @ J
+    try:
+        return np.asarray(J @ np.linalg.solve(H, H - Q), dtype=float)
+    except np.linalg.LinAlgError:
+        return J
 
 
 #: A centre coordinate closer than this to the search box edge counts as on the bound, m.
@@ -185,7 +273,7 @@ def fit_spherical(
             (five parameters; the covariance is mapped back to the six coordinates).
         prior: a weak Gaussian prior on one of the two centres (not with
             ``gauge_axes``): the data-only solution is refined by the MAP problem
-            (:func:`_map_refine`). The excitation report stays the data's own.
+            (:func:`_refine`). The excitation report stays the data's own.
 
     Returns:
         The joint result; warnings are issued and recorded.
@@ -208,10 +296,17 @@ def fit_spherical(
         result = solve_global(problem, method, options)
     if gauge_axes is None:
         x = np.asarray(result.x, dtype=float).copy()
-        if prior is not None:
-            x = _map_refine(data, x, prior, options)
+        Q = None
+        sqrt_w = np.ones(data.n_samples)
+        if prior is not None or options.noise_correction or options.robust:
+            x, Q, w = _refine(data, x, prior, options)
+            sqrt_w = np.sqrt(w)
         r = spherical_residual(x, data)
-        report = jacobian_report(spherical_jacobian(x, data), r, noise_floor=options.noise_floor_mps2)
+        report = jacobian_report(
+            _corrected_jacobian(sqrt_w[:, None] * spherical_jacobian(x, data), Q),
+            sqrt_w * r,
+            noise_floor=options.noise_floor_mps2,
+        )
     else:
         # y (5) -> x' (rotated frames) -> x = (Q_P c'_P, Q_C c'_C) (sensor frames)
         M = np.zeros((6, 6))

@@ -103,7 +103,7 @@ def _residual(
     options: CalibrationOptions,
     max_samples: int,
 ) -> float:
-    quiet = replace(options, center_std_tol_m=np.inf, min_rms_rate_rps=0.0)
+    quiet = replace(options, center_std_tol_m=np.inf, min_rms_rate_rps=0.0, noise_correction=False)
     data = joint_signals(acc, gyr, sig, parent, child, quiet)
     data = data.subsample(subsample_step(data.n_samples, max_samples))
     return fit_spherical(data, method="gn", options=quiet).rms_residual

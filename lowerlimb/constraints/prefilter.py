@@ -18,10 +18,13 @@ leaves open, tuned on the simulator):
   4th-order Butterworth low-pass (``sosfiltfilt``), so that a, ω and α
   share one frequency response.
 
-Per-sensor cut-offs beat one cut-off per joint on the simulator (walking:
-the pelvis is slow, the thigh fast). The factor is tuned on simulated walks
-with realistic noise (``benchmarks/calibration_accuracy.py --option cutoff_factor=…``):
-lower factors bias the fast sensors, higher ones let α noise through.
+The cut-off is decided per sensor (walking: the pelvis is slow, the thigh
+fast), and a joint's two sensors are then filtered at the higher of their two
+cut-offs (:mod:`lowerlimb.calibration.joint_cutoff`): the constraint compares
+what both see of the joint, and different filters on the two sides bias it.
+The factor is tuned on simulated walks with realistic noise
+(``benchmarks/calibration_accuracy.py --option cutoff_factor=…``): lower
+factors bias the fast sensors, higher ones let α noise through.
 """
 
 from __future__ import annotations

@@ -122,6 +122,12 @@ class SphericalData:
         acc_child: (N, 3) child accelerometer, child sensor frame, m/s².
         gyr_child: (N, 3) child gyroscope (bias removed), rad/s.
         angacc_child: (N, 3) child angular acceleration, rad/s².
+        gyr_noise_parent: white-noise standard deviation per axis of ``gyr_parent``
+            (after its filter), rad/s (0: unknown;
+            :mod:`~lowerlimb.constraints.regressor_noise`).
+        angacc_noise_parent: the same for ``angacc_parent``, rad/s².
+        gyr_noise_child: the same for ``gyr_child``, rad/s.
+        angacc_noise_child: the same for ``angacc_child``, rad/s².
     """
 
     acc_parent: FloatArray
@@ -130,6 +136,10 @@ class SphericalData:
     acc_child: FloatArray
     gyr_child: FloatArray
     angacc_child: FloatArray
+    gyr_noise_parent: float = 0.0
+    angacc_noise_parent: float = 0.0
+    gyr_noise_child: float = 0.0
+    angacc_noise_child: float = 0.0
 
     def __post_init__(self) -> None:
         n = _vec3(self.acc_parent, "acc_parent").shape[0]
@@ -179,11 +189,34 @@ class SphericalData:
             self.acc_child @ Q_child,
             self.gyr_child @ Q_child,
             self.angacc_child @ Q_child,
+            *self.noise_levels,
         )
 
     def subsample(self, step: int) -> SphericalData:
         """Every ``step``-th sample (for the swarms, whose cost is evaluated many times)."""
-        return SphericalData(*(getattr(self, k)[::step] for k in DATA_ROWS))
+        return SphericalData(
+            self.acc_parent[::step],
+            self.gyr_parent[::step],
+            self.angacc_parent[::step],
+            self.acc_child[::step],
+            self.gyr_child[::step],
+            self.angacc_child[::step],
+            *self.noise_levels,
+        )
+
+    @property
+    def noise_levels(self) -> tuple[float, float, float, float]:
+        """The four regressor noise levels, in field order.
+
+        ``(gyr_noise_parent, angacc_noise_parent, gyr_noise_child, angacc_noise_child)``;
+        the noise is isotropic, so :meth:`rotated` keeps them.
+        """
+        return (
+            self.gyr_noise_parent,
+            self.angacc_noise_parent,
+            self.gyr_noise_child,
+            self.angacc_noise_child,
+        )
 
 
 def _split(x: ArrayLike) -> tuple[FloatArray, FloatArray]:
