@@ -11,7 +11,9 @@ rotation RMSE). The joints tell us the relative heading of adjacent sensors:
   from the child; gravity enters both equally and is vertical.
 * **Hinge** (knee): the knee axis is one direction:
   ``u = R_p j_p``, ``v = R_c j_c``; while the leg is straight the axis is
-  horizontal, which is exactly when it fixes the heading best.
+  horizontal, which is exactly when it fixes the heading best. Being unit vectors,
+  their products are scaled by :data:`HINGE_HEADING_WEIGHT` / (1 + (σ_axis / 2°)²) to
+  the (m/s²)² of the other terms.
 
 The correction ``δ(t)`` turns the child's earth frame about the vertical so
 that the horizontal parts of ``R_z(δ) v`` and ``u`` agree. It is the
@@ -53,6 +55,17 @@ if TYPE_CHECKING:
 
 #: Joint-centre standard deviation at which a spherical joint's heading term counts half, m.
 CENTRE_STD_REF_M = 0.015
+#: Weight of the knee's hinge-axis heading term, (m/s²)² per unit axis product. The axes are
+#: unit vectors while the spherical joints' terms and the shared magnetic heading weight
+#: (:data:`lowerlimb.segments.tracking.MAG_HEADING_WEIGHT`, 10) are in (m/s²)²; at weight 1 the
+#: magnetometer overruled the hinge and the filters' relative heading drift (a residual gyro
+#: bias, ~4°/min) went into the knee's rotation. At 100 an axis known to ±2° counts five
+#: times the magnetic heading and one known to ±6° (the real walk's) about as much. Chosen on
+#: the seven-IMU simulator (seeds 201–206: knee rotation 3.0° → 1.2° worst RMSE), checked on
+#: the real walk (right knee 4.8° → 4.5°, right ankle 3.3° → 3.7° RMSE; benchmarks/real_gait.py).
+HINGE_HEADING_WEIGHT = 100.0
+#: Knee-axis standard deviation at which the hinge heading term counts half, deg.
+AXIS_STD_REF_DEG = 2.0
 #: Share of the whole-trial mean blended into each local (kernel-mean) estimate.
 GLOBAL_PRIOR_WEIGHT = 0.1
 #: Low-pass cut-off of the joint accelerations before they are compared, Hz:
@@ -161,6 +174,17 @@ def _centre_reliability(excitation: ExcitationReport | None) -> float:
     return float(1.0 / (1.0 + (excitation.weakest_std / CENTRE_STD_REF_M) ** 2))
 
 
+def _axis_reliability(knee: object) -> float:
+    """Weight of the knee's heading term: ``HINGE_HEADING_WEIGHT / (1 + (σ / σ_ref)²)``.
+
+    ``σ`` is the larger of the axis's two reported standard deviations (deg), ``σ_ref``
+    :data:`AXIS_STD_REF_DEG`.
+    """
+    std = np.asarray(getattr(knee, "axis_std_deg", np.zeros(2)), dtype=float)
+    sigma = float(np.max(std)) if std.size and np.all(np.isfinite(std)) else 0.0
+    return float(HINGE_HEADING_WEIGHT / (1.0 + (sigma / AXIS_STD_REF_DEG) ** 2))
+
+
 def correct_headings(
     quat_wxyz: dict[str, FloatArray],
     acc: dict[str, FloatArray],
@@ -214,9 +238,12 @@ def correct_headings(
             )
             v = joint_acceleration_earth(q_child, acc[child], gyr[child], j.center_in_child_sensor, rate_hz)
         S, C = _heading_sums(u, v, rate_hz, window_s)
-        if not hinge:
-            r = _centre_reliability(getattr(j, "excitation", None))
-            S, C = r * S, r * C
+        r = (
+            _axis_reliability(calibration.knee)
+            if hinge
+            else _centre_reliability(getattr(j, "excitation", None))
+        )
+        S, C = r * S, r * C
         if R_sensor_segment is not None and not hinge:
             e_z = np.array([0.0, 0.0, 1.0])
             up = quat_rotate(out[parent], R_sensor_segment[parent] @ e_z)
