@@ -22,8 +22,7 @@ from ..conventions import SENSORS, SIDES, FloatArray
 from ..io.bilateral_tables import BILATERAL_ANGLE_COLUMNS, BILATERAL_POSITION_COLUMNS
 from .bids import write_bids_motion
 from .opensim import write_mot, write_orientations_sto
-from .result import BIDS_DEFAULT_TASK, BIDS_SUBJECT, check_export_formats
-from .units import write_units_sidecar
+from .result import BIDS_DEFAULT_TASK, BIDS_SUBJECT, run_writers, write_units_sidecars
 
 if TYPE_CHECKING:
     from ..bilateral.process import BilateralResult
@@ -36,11 +35,7 @@ def write_bilateral_units_sidecars(
 ) -> list[str]:
     """Write ``<table>.units.json`` for the two-leg ``angles.csv`` / ``positions.csv``; returns the names."""
     columns = {"angles": BILATERAL_ANGLE_COLUMNS, "positions": BILATERAL_POSITION_COLUMNS}
-    names = []
-    for table in tables:
-        write_units_sidecar(directory / f"{table}.units.json", columns[table], table)
-        names.append(f"{table}.units.json")
-    return names
+    return write_units_sidecars(directory, tables, columns)
 
 
 def write_bilateral_exports(result: BilateralResult, directory: Path, formats: Iterable[str]) -> list[str]:
@@ -49,10 +44,7 @@ def write_bilateral_exports(result: BilateralResult, directory: Path, formats: I
     Raises:
         InputError: an unknown format.
     """
-    written: list[str] = []
-    for f in check_export_formats(formats):
-        written += _WRITERS[f](result, directory)
-    return written
+    return run_writers(_WRITERS, result, directory, formats)
 
 
 def _angles_deg(result: BilateralResult) -> dict[str, FloatArray]:

@@ -10,8 +10,9 @@ heading correction (``TrialResult.motion.sensor_quat_wxyz``), sensor → ENU ear
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -44,9 +45,17 @@ def check_export_formats(formats: Iterable[str]) -> tuple[str, ...]:
     return tuple(f for f in EXPORT_FORMATS if f in wanted)
 
 
-def write_units_sidecars(directory: Path, tables: Iterable[str] = ("angles", "positions")) -> list[str]:
-    """Write ``<table>.units.json`` beside each of ``tables`` (angles, positions); returns the names."""
-    columns = {"angles": ANGLE_COLUMNS, "positions": POSITION_COLUMNS}
+def write_units_sidecars(
+    directory: Path,
+    tables: Iterable[str] = ("angles", "positions"),
+    columns: Mapping[str, Sequence[str]] | None = None,
+) -> list[str]:
+    """Write ``<table>.units.json`` beside each of ``tables`` (angles, positions); returns the names.
+
+    ``columns`` maps a table to its header (default: the one-leg ``angles.csv`` /
+    ``positions.csv`` columns).
+    """
+    columns = columns or {"angles": ANGLE_COLUMNS, "positions": POSITION_COLUMNS}
     names = []
     for table in tables:
         write_units_sidecar(directory / f"{table}.units.json", columns[table], table)
@@ -60,9 +69,23 @@ def write_exports(result: TrialResult, directory: Path, formats: Iterable[str]) 
     Raises:
         InputError: an unknown format.
     """
+    return run_writers(_WRITERS, result, directory, formats)
+
+
+def run_writers(
+    writers: Mapping[str, Callable[[Any, Path], list[str]]],
+    result: Any,
+    directory: Path,
+    formats: Iterable[str],
+) -> list[str]:
+    """Run the writer of each checked format on ``result``; returns the names of the files written.
+
+    Raises:
+        InputError: an unknown format.
+    """
     written: list[str] = []
     for f in check_export_formats(formats):
-        written += _WRITERS[f](result, directory)
+        written += writers[f](result, directory)
     return written
 
 
