@@ -11,7 +11,6 @@ heading both legs share.
 
 from __future__ import annotations
 
-import re
 from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -22,7 +21,7 @@ from ..conventions import SENSORS, SIDES, FloatArray
 from ..io.bilateral_tables import BILATERAL_ANGLE_COLUMNS, BILATERAL_POSITION_COLUMNS
 from .bids import write_bids_motion
 from .opensim import write_mot, write_orientations_sto
-from .result import BIDS_DEFAULT_TASK, BIDS_SUBJECT, run_writers, write_units_sidecars
+from .result import BIDS_SUBJECT, bids_task, run_writers, write_units_sidecars
 
 if TYPE_CHECKING:
     from ..bilateral.process import BilateralResult
@@ -71,7 +70,7 @@ def _write_opensim(result: BilateralResult, directory: Path) -> list[str]:
 
 def _write_bids(result: BilateralResult, directory: Path) -> list[str]:
     source = Path(getattr(result.trial, "source", "") or "")
-    task = re.sub(r"[^0-9A-Za-z]", "", source.stem) or BIDS_DEFAULT_TASK
+    task = bids_task(source)
     positions = {c: result.positions_m[:, k] for k, c in enumerate(BILATERAL_POSITION_COLUMNS[1:])}
     files = write_bids_motion(
         directory,

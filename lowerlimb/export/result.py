@@ -99,13 +99,18 @@ def write_opensim(result: TrialResult, directory: Path) -> list[str]:
     return ["angles.mot", "orientations.sto"]
 
 
+def bids_task(source: str | Path) -> str:
+    """BIDS task label of a trial file: its stem in letters and digits, else :data:`BIDS_DEFAULT_TASK`."""
+    return re.sub(r"[^0-9A-Za-z]", "", Path(source).stem) or BIDS_DEFAULT_TASK
+
+
 def write_bids(result: TrialResult, directory: Path) -> list[str]:
     """BIDS-motion files of one tracking system ``imu``: angles, positions and orientations.
 
     Subject :data:`BIDS_SUBJECT`; task = the trial file's stem with everything but
     letters and digits removed (:data:`BIDS_DEFAULT_TASK` when nothing is left).
     """
-    task = re.sub(r"[^0-9A-Za-z]", "", Path(result.trial.source).stem) or BIDS_DEFAULT_TASK
+    task = bids_task(result.trial.source)
     positions = {c: result.positions_m[:, k] for k, c in enumerate(POSITION_COLUMNS[1:])}
     files = write_bids_motion(
         directory,

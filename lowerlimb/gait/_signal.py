@@ -29,6 +29,15 @@ def lowpass(x: FloatArray, cutoff_hz: float, rate_hz: float) -> FloatArray:
     return np.asarray(sosfiltfilt(sos, x, axis=0), dtype=float)
 
 
+def parabolic_vertex(x: FloatArray, k: int) -> float:
+    """Sub-sample position of the extremum of ``x`` at ``k`` (parabola through k-1, k, k+1)."""
+    if k <= 0 or k >= x.shape[0] - 1:
+        return float(k)
+    a, b, c = x[k - 1], x[k], x[k + 1]
+    den = a - 2.0 * b + c
+    return float(k) if abs(den) < 1e-12 else float(k + 0.5 * (a - c) / den)
+
+
 def runs(mask: FloatArray | np.ndarray) -> list[tuple[int, int]]:
     """Half-open index ranges ``[start, stop)`` of the True runs of a boolean array."""
     m = np.concatenate([[False], np.asarray(mask, dtype=bool), [False]])

@@ -34,7 +34,7 @@ from numpy.typing import ArrayLike
 from scipy.signal import find_peaks
 
 from lowerlimb.conventions import FloatArray
-from lowerlimb.gait._signal import as_signal, lowpass
+from lowerlimb.gait._signal import as_signal, lowpass, parabolic_vertex
 from lowerlimb.gait.errors import NoGaitCyclesError
 from lowerlimb.gait.foot_contact import foot_sagittal_rate, heel_rocker_onsets
 from lowerlimb.gait.params import GaitParams, samples
@@ -109,15 +109,6 @@ def _local_minima(x: FloatArray, lo: int, hi: int, below: float) -> np.ndarray:
     return k[ok]
 
 
-def _refine(x: FloatArray, k: int) -> float:
-    """Sub-sample position of the extremum at ``k`` (parabola through k-1, k, k+1)."""
-    if k <= 0 or k >= x.shape[0] - 1:
-        return float(k)
-    a, b, c = x[k - 1], x[k], x[k + 1]
-    den = a - 2.0 * b + c
-    return float(k) if abs(den) < 1e-12 else float(k + 0.5 * (a - c) / den)
-
-
 def _shank_minima(
     om: FloatArray, ms: np.ndarray, rate_hz: float, p: GaitParams
 ) -> tuple[list[float], list[float | None], list[tuple[int, int]]]:
@@ -137,11 +128,11 @@ def _shank_minima(
         prv = ms[j - 1] if j > 0 else 0
         cand = _local_minima(om, m + 1, min(m + 1 + n_ic, nxt, m + half), -p.event_min_rps)
         if cand.size:
-            ic.append(_refine(om, int(cand[0])))
+            ic.append(parabolic_vertex(om, int(cand[0])))
         lo = max(m - n_to, prv + 1, m - half)
         windows.append((int(lo), int(m)))
         cand = _local_minima(om, lo, m, -p.event_min_rps)
-        to.append(_refine(om, int(cand[np.argmin(om[cand])])) if cand.size else None)
+        to.append(parabolic_vertex(om, int(cand[np.argmin(om[cand])])) if cand.size else None)
     return ic, to, windows
 
 

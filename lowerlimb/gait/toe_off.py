@@ -36,19 +36,10 @@ from __future__ import annotations
 import numpy as np
 
 from lowerlimb.conventions import FloatArray
-from lowerlimb.gait._signal import lowpass
+from lowerlimb.gait._signal import lowpass, parabolic_vertex
 from lowerlimb.gait.params import GaitParams
 
 __all__ = ["forefoot_unloading"]
-
-
-def _parabola(x: FloatArray, k: int) -> float:
-    """Sub-sample position of the extremum of ``x`` at ``k`` (parabola through k-1, k, k+1)."""
-    if k <= 0 or k >= x.shape[0] - 1:
-        return float(k)
-    a, b, c = x[k - 1], x[k], x[k + 1]
-    den = a - 2.0 * b + c
-    return float(k) if abs(den) < 1e-12 else float(k + 0.5 * (a - c) / den)
 
 
 def _bracket(w: FloatArray, lo: int, hi: int, min_rps: float) -> tuple[int, int] | None:
@@ -104,5 +95,5 @@ def forefoot_unloading(
             out.append(None)
             continue
         p = k + int(np.argmax(f[k:d]))
-        out.append(_parabola(f, p) if f[p] - f[d] >= params.unloading_min_mps2 else None)
+        out.append(parabolic_vertex(f, p) if f[p] - f[d] >= params.unloading_min_mps2 else None)
     return out
