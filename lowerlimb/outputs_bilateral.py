@@ -26,7 +26,7 @@ from .gait import GaitEvents, write_events_csv, write_stationary_csv
 from .io.atomic import populate_directory
 from .io.bilateral_tables import write_bilateral_tables
 from .io.bilateral_trial import BilateralTrial
-from .io.result_files import OUTPUT_FILES
+from .io.result_files import OUTPUT_FILES, check_outputs
 from .outputs import CalibrateOptions, _print_warnings, announce, check_options, residual_lines
 
 __all__ = [
@@ -225,6 +225,7 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
                 f"{flag} is a single-leg option; a two-leg trial is calibrated on itself (drop {flag}, "
                 f"or import one leg as a four-sensor trial)"
             )
+    files = check_outputs(options.outputs)
     trial = BilateralTrial.from_csv(options.trial)
     check_method(options.method)
     announce(options, trial.n_samples, trial.rate_hz, trial.duration_s, "two legs")
@@ -242,7 +243,7 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
             side_check=options.side_check,
         )
     _print_warnings(caught)
-    write_bilateral_result(result, out, files=frozenset(options.outputs), exports=tuple(options.exports))
+    write_bilateral_result(result, out, files=files, exports=tuple(options.exports))
     print(f"joint calibration of both legs took {result.runtime_s:.3f} s; wrote {out}/", file=sys.stderr)
     for side in SIDES:
         for line in residual_lines(result.legs[side].calibration_dict()):

@@ -117,6 +117,7 @@ def test_side_and_single_leg_options_are_refused_for_two_legs(two_legs, tmp_path
         (["--calibration", str(csv)], "--calibration is a single-leg option"),
         (["--reference", str(csv)], "--reference is a single-leg option"),
         (["--export", "fbx"], "invalid choice"),
+        (["--outputs", "foo"], "unknown output 'foo'"),
         (["--height", "inf"], "--height"),
     ):
         r = _cli("calibrate", str(csv), "--out", str(tmp_path / "o"), *extra)

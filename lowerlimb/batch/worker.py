@@ -27,6 +27,7 @@ from lowerlimb.errors import InputError
 from lowerlimb.io.bilateral_trial import BilateralTrial, read_header, trial_layout
 from lowerlimb.io.trial import ImuTrial
 from lowerlimb.outputs import read_calibration, write_outputs
+from lowerlimb.outputs_bilateral import write_bilateral_outputs
 from lowerlimb.pipeline import TrialResult, process_trial
 
 from .record import MARKER, TrialJob, TrialOutcome
@@ -122,8 +123,6 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
 
 
 def _write_two_legs(result: BilateralResult, directory: Path, files: frozenset[str]) -> None:
-    from lowerlimb.outputs_bilateral import write_bilateral_outputs
-
     write_bilateral_outputs(result, directory, files=files)
 
 
