@@ -123,6 +123,18 @@ def test_a_leg_copied_onto_the_other_is_refused(tmp_path: Path):
     assert "identical data" in r.stderr and not (tmp_path / "o").exists()
 
 
+def test_a_leg_without_motion_is_named(tmp_path: Path):
+    def still_right(acc, gyr):
+        for s in ("thigh", "shank", "foot"):
+            acc[f"right_{s}"][:] = acc[f"right_{s}"][0]
+            gyr[f"right_{s}"][:] = gyr[f"right_{s}"][0]
+
+    r = _cli("calibrate", str(_write_variant(tmp_path, still_right)), "--out", str(tmp_path / "o"))
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert "no motion" in r.stderr and "right_thigh" in r.stderr and "--calibration" not in r.stderr
+    assert not (tmp_path / "o").exists()
+
+
 def test_side_and_single_leg_options_are_refused_for_two_legs(two_legs, tmp_path: Path):
     csv, _ = two_legs
     for extra, words in (

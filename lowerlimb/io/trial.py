@@ -71,14 +71,17 @@ def check_distinct_sensors(
 class NoMotionError(InputError):
     """The trial holds no motion to calibrate the joints from; carries the gyro variation (rad/s)."""
 
-    def __init__(self, sensor: str, gyro_std_rps: float, required_rps: float) -> None:
+    def __init__(
+        self, sensor: str, gyro_std_rps: float, required_rps: float, *, reusable: bool = True
+    ) -> None:
         self.sensor = sensor
         self.gyro_std_rps = gyro_std_rps
         self.required_rps = required_rps
+        reuse = ", or reuse an earlier calibration with --calibration" if reusable else ""
         super().__init__(
             f"the trial holds no motion to calibrate from: the {sensor} angular rate varies by "
             f"{gyro_std_rps:.3g} rad/s (at least {required_rps:g} rad/s needed); record a walk or "
-            f"the calibration motions, or reuse an earlier calibration with --calibration"
+            f"the calibration motions{reuse}"
         )
 
 
