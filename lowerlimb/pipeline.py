@@ -182,7 +182,7 @@ def calibrate_joints(
     return replace(
         previous,
         runtime_s=0.0,
-        gyro_bias={s: gyro_bias(trial.gyr[s], n_still) for s in SENSORS},
+        gyro_bias={s: gyro_bias(trial.gyr[s], n_still, still.quiet) for s in SENSORS},
         still_s=n_still / trial.rate_hz,
     )
 
