@@ -417,9 +417,7 @@ def calibrate_spherical_joint(
     opts = options or CalibrationOptions()
     check_method(method)
     sig, data = prepare_pair(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, opts)
-    keep = (
-        impact_keep_mask((acc_parent, acc_child), sig.rate_hz, opts) if opts.impact_exclusion else None
-    )
+    keep = impact_keep_mask((acc_parent, acc_child), sig.rate_hz, opts) if opts.impact_exclusion else None
     return fit_spherical(
         data,
         method=method,

@@ -282,12 +282,10 @@ def calibrate_leg(
         leg_priors(knee, acc, sig.n_still, opts) if opts.anthropometric_prior else (None, None)
     )
     hip_keep, ankle_keep = (
-        (
-            impact_keep_mask((acc[p], acc[c], acc["foot"]), rate, opts),
-            impact_keep_mask((acc[pa], acc[ca], acc["foot"]), rate, opts),
-        )
-        if opts.impact_exclusion
-        else (None, None)
+        impact_keep_mask((acc[s], acc[t], acc["foot"]), rate, opts)
+        if opts.impact_exclusion and joint in opts.impact_joints
+        else None
+        for joint, s, t in (("hip", p, c), ("ankle", pa, ca))
     )
     hip = fit_spherical(
         hip_data,
