@@ -20,6 +20,8 @@ Pipeline (choices the paper leaves open are written here):
    ``casadi`` and ``gn`` start from x = 0 (the sensors themselves; the cost
    is well-behaved there in practice), inside the box ``|c_i| ≤ center_bound_m``;
    the swarms search that box on at most ``swarm_samples`` samples;
+   samples near impacts (jerk peaks) are left out first when the caller says so
+   (:mod:`~lowerlimb.calibration.impact_window`; a leg's ankle by default);
 4. diagnostics from the Jacobian at the solution
    (:mod:`~lowerlimb.calibration.excitation`).
 """
@@ -390,6 +392,11 @@ def calibrate_spherical_joint(
     child_sensor: str = "child",
 ) -> SphericalJointCalibration:
     """Joint centre of a spherical joint between two IMUs, with diagnostics.
+
+    With ``options.impact_exclusion`` (default) the samples near jerk peaks of
+    either accelerometer are left out
+    (:func:`~lowerlimb.calibration.impact_window.impact_keep_mask`); smooth motion
+    has none.
 
     Args:
         acc_parent: (N, 3) parent accelerometer (specific force), parent sensor frame, m/s².

@@ -104,12 +104,13 @@ class CalibrationOptions:
         robust: fit the spherical joints by Huber's M-estimator (iteratively
             reweighted, :mod:`~lowerlimb.calibration.robust_weights`): the few
             samples that break the rigid constraint count less. Off: on the
-            seven-IMU simulator it brings the ankle in the shank from 60 to 3 mm
-            median (the simulator's contacts break the constraint), but on real
-            data with optical truth it moves the rig's 2-DoF centre from 6.4 to
-            9.9 mm and the real walk's step width from 16.8 to 23.4 mm median (the
-            norm residual grows with the motion, so the weights also discount the
-            most informative samples).
+            seven-IMU simulator it brought the ankle in the shank from 60 to 3 mm
+            median (the simulator's contacts break the constraint; measured
+            before ``impact_exclusion``, which now removes those samples), but on
+            real data with optical truth it moves the rig's 2-DoF centre from 6.4
+            to 9.9 mm and the real walk's step width from 16.8 to 23.4 mm median
+            (the norm residual grows with the motion, so the weights also discount
+            the most informative samples).
         huber_k: Huber's threshold in robust standard deviations (1.345: 95 %
             efficiency at Gaussian noise, Holland & Welsch 1977).
         robust_passes: most reweighting passes.
