@@ -87,8 +87,8 @@ class OppositeKneesError(InputError):
         self.angle_deg = angle_deg
         super().__init__(
             f"the two knee axes point {angle_deg:.0f}° apart seen from the pelvis, but both should point "
-            f"to the subject's right: one leg's sensors look mirrored or belong to the other leg; "
-            f"check the left_* and right_* columns and each sensor's axes in the export"
+            f"to the subject's right: one leg's sensors look mirrored or belong to the other leg, or one "
+            f"knee barely bends; check the left_* and right_* columns and each sensor's axes in the export"
         )
 
 
