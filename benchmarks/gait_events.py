@@ -15,8 +15,8 @@ with default :class:`~lowerlimb.gait.GaitParams`, and are scored against:
     already turned, the foot still stands where it was put down at 80 deg). Each marker
     event is matched to the nearest IMU event of its side and type within 0.2 s. As a
     second, physical reference, the heel-marker "heel stop": the first frame after the Zeni
-    contact at which the heel
-    marker's horizontal speed falls below 0.3 m/s (reported, not a goal);
+    contact at which the heel marker's horizontal speed falls below 0.3 m/s (reported, not
+    a goal);
 (b) foot-stationary periods against the per-frame flags of step-detect/ (walking window);
 (c) stride length, step length, step width, cadence and speed against the Vicon ankle
     centres (LAJC/RAJC, mm, lab z up) at the marker initial contacts, same definitions as
