@@ -287,25 +287,14 @@ def calibrate_leg(
         else None
         for joint, s, t in (("hip", p, c), ("ankle", pa, ca))
     )
-    hip = fit_spherical(
-        hip_data,
-        method=method,
-        options=opts,
-        joint="hip",
-        parent_sensor=p,
-        child_sensor=c,
-        prior=hip_prior,
-        keep=hip_keep,
-    )
-    ankle = fit_spherical(
-        ankle_data,
-        method=method,
-        options=opts,
-        joint="ankle",
-        parent_sensor=pa,
-        child_sensor=ca,
-        prior=ankle_prior,
-        keep=ankle_keep,
+    hip, ankle = (
+        fit_spherical(
+            data, method=method, options=opts, joint=joint, parent_sensor=s, child_sensor=t, prior=pr, keep=kp
+        )
+        for joint, data, s, t, pr, kp in (
+            ("hip", hip_data, p, c, hip_prior, hip_keep),
+            ("ankle", ankle_data, pa, ca, ankle_prior, ankle_keep),
+        )
     )
     runtime = time.perf_counter() - t0
     return LegCalibration(
