@@ -7,11 +7,13 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from simcache import data_dir
 
 from lowerlimb.calibration import calibrate_leg
-from lowerlimb.calibration.excitation import ExcitationReport
+from lowerlimb.calibration.excitation import ExcitationReport, ExcitationWarning
 from lowerlimb.calibration.knee_line import (
     KneeLine,
+    axis_mismatch_message,
     knee_line_offset,
     standing_axis_mismatch,
     with_knee_line,
@@ -23,6 +25,7 @@ from lowerlimb.calibration.results import (
     SphericalJointCalibration,
 )
 from lowerlimb.errors import InputError
+from lowerlimb.io.xsens import read_xsens
 from lowerlimb.simulation import simulate_bilateral
 
 
@@ -162,3 +165,36 @@ def test_simulated_walk_puts_the_ankle_beside_the_hip(walk, side) -> None:
     assert abs(v - _true_offset(truth)) < abs(line["data_m"] - _true_offset(truth))
     off = calibrate_leg(walk.trial.leg(side), options=CalibrationOptions(knee_line_prior=False))
     assert "knee_line" not in off.priors
+
+
+def test_mismatch_message_names_the_disagreement_and_a_fix() -> None:
+    msg = axis_mismatch_message(-17.4)
+    assert "17°" in msg and "soft tissue" in msg and "strap" in msg and "\n" not in msg
+
+
+REAL = data_dir()
+
+
+@pytest.mark.data
+@pytest.mark.skipif(REAL is None or not (REAL / "gait").is_dir(), reason="real-walk data absent")
+@pytest.mark.parametrize("side", ["left", "right"])
+def test_real_walk_thigh_axis_disagrees_so_the_prior_steps_aside(side) -> None:
+    """On the real walk the thigh's knee axis is 17-18 deg off the shank's at standing."""
+    assert REAL is not None
+    ids = {
+        "pelvis": "00B40B91",
+        "left_thigh": "00B40C45",
+        "right_thigh": "00B40C3C",
+        "left_shank": "00B40C44",
+        "right_shank": "00B40C47",
+        "left_foot": "00B40C55",
+        "right_foot": "00B40C48",
+    }
+    mapping = {"pelvis": ids["pelvis"]} | {s: ids[f"{side}_{s}"] for s in ("thigh", "shank", "foot")}
+    trial = read_xsens(REAL / "gait" / "rawimu", mapping, side=side)
+    with pytest.warns(ExcitationWarning, match="knee axis from the thigh sensor"):
+        cal = calibrate_leg(trial)
+    line = cal.priors["knee_line"]
+    assert not line["applied"] and abs(line["axis_mismatch_deg"]) > 10.0  # measured 17-18
+    assert line["posterior_m"] == line["data_m"]
+    assert any("knee axis from the thigh sensor" in w for w in cal.warnings)

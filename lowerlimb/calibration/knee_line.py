@@ -60,7 +60,13 @@ import numpy as np
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.conventions import FloatArray
 
-__all__ = ["KneeLine", "knee_line_offset", "standing_axis_mismatch", "with_knee_line"]
+__all__ = [
+    "KneeLine",
+    "axis_mismatch_message",
+    "knee_line_offset",
+    "standing_axis_mismatch",
+    "with_knee_line",
+]
 
 
 def knee_line_offset(
@@ -203,6 +209,16 @@ def standing_axis_mismatch(knee: HingeJointCalibration, up_thigh: FloatArray, up
         for j, u in ((knee.axis_in_parent_sensor, up_thigh), (knee.axis_in_child_sensor, up_shank))
     ]
     return float(e[0] - e[1])
+
+
+def axis_mismatch_message(mismatch_deg: float) -> str:
+    """The warning for a knee whose two axis estimates disagree at standing (one line)."""
+    return (
+        f"knee: the knee axis from the thigh sensor and from the shank sensor differ by "
+        f"{abs(mismatch_deg):.0f}° in elevation at the standing start (a hinge keeps them equal): a sensor, "
+        f"most often the thigh's, turns on soft tissue; knee adduction and rotation and the ankle's "
+        f"sideways place in the chain are less certain; strap the sensors tighter over flat, lean spots"
+    )
 
 
 def _statistical_std(knee: HingeJointCalibration) -> float:

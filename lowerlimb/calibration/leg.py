@@ -33,10 +33,11 @@ from lowerlimb.calibration._prepare import (
     joint_signals,
     prepare_signals,
 )
+from lowerlimb.calibration.excitation import issue_warnings
 from lowerlimb.calibration.hinge_joint import fit_hinge_joint
 from lowerlimb.calibration.impact_window import impact_keep_mask
 from lowerlimb.calibration.joint_center import fit_spherical
-from lowerlimb.calibration.knee_line import standing_axis_mismatch, with_knee_line
+from lowerlimb.calibration.knee_line import axis_mismatch_message, standing_axis_mismatch, with_knee_line
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.calibration.segment_prior import CenterPrior, center_prior, segment_up
@@ -323,6 +324,8 @@ def calibrate_leg(
             max_mismatch_rad=np.radians(opts.knee_line_max_mismatch_deg),
         )
         priors["knee_line"] = line.to_dict()
+        if not line.applied:
+            knee = _with_warning(knee, axis_mismatch_message(line.axis_mismatch_deg))
     runtime = time.perf_counter() - t0
     return LegCalibration(
         side=side,
@@ -337,6 +340,12 @@ def calibrate_leg(
         rigid_band_cap_hz=caps,
         priors=priors,
     )
+
+
+def _with_warning(knee: HingeJointCalibration, message: str) -> HingeJointCalibration:
+    """The knee with ``message`` issued and recorded among its centre's warnings."""
+    issue_warnings([message], stacklevel=4)
+    return replace(knee, center=replace(knee.center, warnings=[*knee.center.warnings, message]))
 
 
 def _knee_probe(
