@@ -13,7 +13,7 @@ from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.constraints.angular_acceleration import angular_acceleration, window_length
 from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass, rigid_band_hz
 from lowerlimb.constraints.regressor_noise import filter_noise_gains, white_noise_std
-from lowerlimb.constraints.spherical import SphericalData
+from lowerlimb.constraints.spherical import SphericalData, kinematic_matrix
 from lowerlimb.conventions import MAX_GYRO_RAD_S as GYRO_DEG_PER_S_THRESHOLD
 from lowerlimb.conventions import MIN_MEDIAN_ACC_MPS2, FloatArray
 from lowerlimb.errors import InputError, NonFiniteValueError, ShapeError, UnitError
@@ -122,6 +122,9 @@ class PreparedSignals:
             first differences through the filter chain
             (:mod:`~lowerlimb.constraints.regressor_noise`; ``(0, 0)`` without a
             still period).
+        kin: ``{sensor: (N, 3, 3)}`` with ``options.filter_regressor``: the kinematic
+            matrix ``K = [ω]ײ + [α]×`` of the unfiltered gyro, low-passed at the
+            sensor's cut-off like its accelerometer, 1/s² (empty otherwise).
     """
 
     rate_hz: float
@@ -133,6 +136,7 @@ class PreparedSignals:
     cutoff_hz: dict[str, float | None]
     gyro_noise_std: dict[str, float | None]
     regressor_noise: dict[str, tuple[float, float]] = field(default_factory=dict)
+    kin: dict[str, FloatArray] = field(default_factory=dict)
 
 
 def prepare_signals(
@@ -196,6 +200,11 @@ def prepare_signals(
                 factor=options.cutoff_factor,
                 min_hz=options.min_cutoff_hz,
             )
+    kin = (
+        {k: filtered_regressor(g, rate_hz, cutoff[k], options) for k, g in gyr_c.items()}
+        if options.filter_regressor
+        else {}
+    )
     gyr_c = {k: lowpass(g, rate_hz, cutoff[k]) for k, g in gyr_c.items()}
     acc_f = {k: lowpass(a, rate_hz, cutoff.get(k)) for k, a in acc.items()}
     angacc = {
@@ -211,7 +220,34 @@ def prepare_signals(
             float(rate_hz), cutoff[k], options.angacc_window_s, options.angacc_polyorder
         )
         regressor[k] = (white * gains[0], white * gains[1])
-    return PreparedSignals(rate_hz, acc_f, gyr_c, angacc, bias, n_still, cutoff, noise, regressor)
+    if kin:  # the regressor is filtered, not squared after filtering: no noise bias to correct
+        regressor = {k: (0.0, 0.0) for k in regressor}
+    return PreparedSignals(rate_hz, acc_f, gyr_c, angacc, bias, n_still, cutoff, noise, regressor, kin)
+
+
+def filtered_regressor(
+    gyr: FloatArray, rate_hz: float, cutoff_hz: float | None, options: CalibrationOptions
+) -> FloatArray:
+    """The kinematic matrix of a bias-corrected, unfiltered gyro, low-passed, (N, 3, 3) 1/s².
+
+    The rigid-body relation ``g = a + K(ω, α) c`` is linear in ``a`` and ``K``, so a
+    linear low-pass applied to both keeps it exactly in the sensor's frame; squaring
+    a low-passed ω instead (``K(F ω, F α)``) does not, and the difference biases the
+    centre when the cut-off is low (module docstring of
+    :mod:`~lowerlimb.constraints.spherical`).
+
+    Args:
+        gyr: (N, 3) gyro with the bias removed, rad/s.
+        rate_hz: sampling rate, Hz.
+        cutoff_hz: the sensor's cut-off, Hz (``None``: unfiltered).
+        options: the α window (``angacc_window_s``, ``angacc_polyorder``).
+    """
+    al = angular_acceleration(
+        gyr, rate_hz, window_s=options.angacc_window_s, polyorder=options.angacc_polyorder
+    )
+    K = kinematic_matrix(gyr, al)
+    n = K.shape[0]
+    return np.asarray(lowpass(K.reshape(n, 9), rate_hz, cutoff_hz), dtype=float).reshape(n, 3, 3)
 
 
 def rigid_band_cap_hz(
@@ -294,6 +330,8 @@ def pair_data(sig: PreparedSignals, parent: str = "p", child: str = "c") -> Sphe
         sig.angacc[child],
         *sig.regressor_noise.get(parent, (0.0, 0.0)),
         *sig.regressor_noise.get(child, (0.0, 0.0)),
+        kin_parent=sig.kin.get(parent),
+        kin_child=sig.kin.get(child),
     )
 
 

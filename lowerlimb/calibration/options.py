@@ -39,6 +39,10 @@ class CalibrationOptions:
             on simulated walking among 1.25–3; see benchmarks/calibration_accuracy.py
             ``--option cutoff_factor=…``).
         min_cutoff_hz: lowest adaptive cut-off, Hz.
+        filter_regressor: low-pass the kinematic matrix ``K = [ω]ײ + [α]×`` built
+            from the unfiltered gyro, like the accelerometer, instead of building it
+            from the low-passed gyro (the rigid-body relation is linear in ``a`` and
+            ``K``, not in ω; :func:`~lowerlimb.calibration._prepare.filtered_regressor`).
         rigid_band: cap each joint's cut-off at the band in which its two sensors
             are coherent (:func:`~lowerlimb.constraints.prefilter.rigid_band_hz`):
             soft-tissue wobble, strap resonance and impact ringing of real
@@ -177,6 +181,7 @@ class CalibrationOptions:
     """
 
     prefilter: bool = True
+    filter_regressor: bool = False
     cutoff_hz: float | None = None
     cutoff_factor: float = 1.5
     min_cutoff_hz: float = 2.5

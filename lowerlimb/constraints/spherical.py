@@ -31,6 +31,7 @@ derivative exists everywhere.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache, cached_property
 
@@ -128,6 +129,11 @@ class SphericalData:
         angacc_noise_parent: the same for ``angacc_parent``, rad/s².
         gyr_noise_child: the same for ``gyr_child``, rad/s.
         angacc_noise_child: the same for ``angacc_child``, rad/s².
+        kin_parent: (N, 3, 3) the parent's kinematic matrix ``K = [ω]ײ + [α]×`` when
+            it was built from the unfiltered gyro and low-passed itself (the
+            regressor prefilter, :attr:`~lowerlimb.calibration.options.CalibrationOptions.filter_regressor`),
+            1/s²; ``None``: built from ``gyr_parent`` and ``angacc_parent``.
+        kin_child: the same for the child.
     """
 
     acc_parent: FloatArray
@@ -140,11 +146,20 @@ class SphericalData:
     angacc_noise_parent: float = 0.0
     gyr_noise_child: float = 0.0
     angacc_noise_child: float = 0.0
+    kin_parent: FloatArray | None = None
+    kin_child: FloatArray | None = None
 
     def __post_init__(self) -> None:
         n = _vec3(self.acc_parent, "acc_parent").shape[0]
         for name in DATA_ROWS:
             object.__setattr__(self, name, _vec3(getattr(self, name), name, n))
+        for name in ("kin_parent", "kin_child"):
+            k = getattr(self, name)
+            if k is not None:
+                k = np.asarray(k, dtype=float)
+                if k.shape != (n, 3, 3):
+                    raise ShapeError(f"{name} must have shape ({n}, 3, 3), got {k.shape}")
+                object.__setattr__(self, name, k)
 
     @property
     def n_samples(self) -> int:
@@ -154,11 +169,15 @@ class SphericalData:
     @cached_property
     def K_parent(self) -> FloatArray:
         """(N, 3, 3) kinematic matrices of the parent sensor, 1/s²."""
+        if self.kin_parent is not None:
+            return self.kin_parent
         return kinematic_matrix(self.gyr_parent, self.angacc_parent)
 
     @cached_property
     def K_child(self) -> FloatArray:
         """(N, 3, 3) kinematic matrices of the child sensor, 1/s²."""
+        if self.kin_child is not None:
+            return self.kin_child
         return kinematic_matrix(self.gyr_child, self.angacc_child)
 
     @cached_property
@@ -172,8 +191,14 @@ class SphericalData:
         return _norm_terms(self.acc_child, self.K_child)
 
     def data_matrix(self) -> FloatArray:
-        """(18, N) CasADi parameter matrix; rows follow ``DATA_ROWS`` (3 rows each)."""
-        return np.ascontiguousarray(np.hstack([getattr(self, k) for k in DATA_ROWS]).T)
+        """(24, N) CasADi parameter matrix: ``a_P``, ``K_P`` row-major, ``a_C``, ``K_C`` row-major."""
+        n = self.n_samples
+        cols = [self.acc_parent, self.K_parent.reshape(n, 9), self.acc_child, self.K_child.reshape(n, 9)]
+        return np.ascontiguousarray(np.hstack(cols).T)
+
+    def _kin(self, f: Callable[[FloatArray], FloatArray]) -> tuple[FloatArray | None, FloatArray | None]:
+        """``(kin_parent, kin_child)`` mapped through ``f`` (``None`` kept)."""
+        return tuple(None if v is None else f(v) for v in (self.kin_parent, self.kin_child))  # type: ignore[return-value]
 
     def rotated(self, Q_parent: FloatArray, Q_child: FloatArray) -> SphericalData:
         """The same signals in rotated sensor frames: each vector ``v`` becomes ``Qᵀ v``.
@@ -190,6 +215,8 @@ class SphericalData:
             self.gyr_child @ Q_child,
             self.angacc_child @ Q_child,
             *self.noise_levels,
+            kin_parent=None if self.kin_parent is None else Q_parent.T @ self.kin_parent @ Q_parent,
+            kin_child=None if self.kin_child is None else Q_child.T @ self.kin_child @ Q_child,
         )
 
     def subsample(self, step: int) -> SphericalData:
@@ -202,6 +229,7 @@ class SphericalData:
             self.gyr_child[::step],
             self.angacc_child[::step],
             *self.noise_levels,
+            *self._kin(lambda k: k[::step]),
         )
 
     def select(self, keep: ArrayLike) -> SphericalData:
@@ -217,6 +245,7 @@ class SphericalData:
             self.gyr_child[k],
             self.angacc_child[k],
             *self.noise_levels,
+            *self._kin(lambda m: m[k]),
         )
 
     @property
@@ -349,21 +378,23 @@ def spherical_jacobian_3d(x: ArrayLike, data: SphericalData, R_parent_child: Arr
 
 @cache
 def spherical_sample_function() -> ca.Function:
-    """Per-sample CasADi SX function ``(x[6], p[18]) -> e`` of eq. 3 (c = −V).
+    """Per-sample CasADi SX function ``(x[6], p[24]) -> e`` of eq. 3 (c = −V).
 
-    ``p`` stacks ``a_P, ω_P, α_P, a_C, ω_C, α_C`` (sensor frames, SI units).
+    ``p`` stacks ``a_P``, ``K_P`` (row-major), ``a_C``, ``K_C`` (sensor frames, SI
+    units; ``K = [ω]ײ + [α]×``, :meth:`SphericalData.data_matrix`).
     The same object is returned on every call, so solvers can cache what they
     build from it.
     """
     x = ca.SX.sym("x", 6)
-    p = ca.SX.sym("p", 18)
+    p = ca.SX.sym("p", 24)
 
     def g(off: int, c: ca.SX) -> ca.SX:
-        a, w, al = p[off : off + 3], p[off + 3 : off + 6], p[off + 6 : off + 9]
-        return a + ca.cross(w, ca.cross(w, c)) + ca.cross(al, c)
+        a = p[off : off + 3]
+        K = [p[off + 3 + 3 * i : off + 6 + 3 * i] for i in range(3)]  # rows of K
+        return a + ca.vertcat(*(ca.dot(K[i], c) for i in range(3)))
 
     gp = g(0, x[0:3])
-    gc = g(9, x[3:6])
+    gc = g(12, x[3:6])
     e = ca.sqrt(ca.sumsqr(gp) + _EPS2) - ca.sqrt(ca.sumsqr(gc) + _EPS2)
     return ca.Function("spherical_sample", [x, p], [e], ["x", "p"], ["e"])
 
@@ -394,14 +425,14 @@ def spherical_axis_gauge_sample_function() -> ca.Function:
     Hu 2021 eq. 16) leaves five parameters ``y``: ``x' = AXIS_GAUGE_MAP @ y``.
     """
     y = ca.SX.sym("y", 5)
-    p = ca.SX.sym("p", 18)
+    p = ca.SX.sym("p", 24)
     x = ca.vertcat(y[0], y[1], y[2], -y[0], y[3], y[4])
     e = spherical_sample_function()(x, p)
     return ca.Function("spherical_axis_gauge_sample", [y, p], [e], ["x", "p"], ["e"])
 
 
 def spherical_casadi(n_samples: int) -> ca.Function:
-    """CasADi residual ``(x[6], P[18×N]) -> r[N]`` of eq. 3: the per-sample function ``map``-ed.
+    """CasADi residual ``(x[6], P[24×N]) -> r[N]`` of eq. 3: the per-sample function ``map``-ed.
 
     Args:
         n_samples: N, the number of columns of the data matrix
@@ -409,10 +440,10 @@ def spherical_casadi(n_samples: int) -> ca.Function:
 
     Returns:
         A ``casadi.Function`` named ``spherical_residual`` with inputs ``x``
-        (6×1, m) and ``p`` (18×N) and output ``r`` (N×1, m/s²).
+        (6×1, m) and ``p`` (24×N) and output ``r`` (N×1, m/s²).
     """
     f = spherical_sample_function().map(int(n_samples), "serial")
     x = ca.MX.sym("x", 6)
-    p = ca.MX.sym("p", 18, int(n_samples))
+    p = ca.MX.sym("p", 24, int(n_samples))
     r = f(x, p).T
     return ca.Function("spherical_residual", [x, p], [r], ["x", "p"], ["r"])
