@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 import os
 from pathlib import Path
 
@@ -30,3 +31,14 @@ def data_dir() -> Path | None:
         if c.is_dir():
             return c.resolve()
     return None
+
+
+def real_walk_leg_mapping(side: str) -> dict[str, str]:
+    """``{pelvis, thigh, shank, foot: ID}`` of one leg of the real walk, for ``read_xsens``
+    (the IDs of ``benchmarks/_realwalk.py``)."""
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "_realwalk.py"
+    spec = importlib.util.spec_from_file_location("_realwalk_ids", path)
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return dict(mod.leg_mapping(side))

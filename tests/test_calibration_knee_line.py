@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from simcache import data_dir
+from simcache import data_dir, real_walk_leg_mapping
 
 from lowerlimb.calibration import calibrate_leg
 from lowerlimb.calibration.excitation import ExcitationReport, ExcitationWarning
@@ -181,16 +181,7 @@ REAL = data_dir()
 def test_real_walk_thigh_axis_disagrees_so_the_prior_steps_aside(side) -> None:
     """On the real walk the thigh's knee axis is 17-18 deg off the shank's at standing."""
     assert REAL is not None
-    ids = {
-        "pelvis": "00B40B91",
-        "left_thigh": "00B40C45",
-        "right_thigh": "00B40C3C",
-        "left_shank": "00B40C44",
-        "right_shank": "00B40C47",
-        "left_foot": "00B40C55",
-        "right_foot": "00B40C48",
-    }
-    mapping = {"pelvis": ids["pelvis"]} | {s: ids[f"{side}_{s}"] for s in ("thigh", "shank", "foot")}
+    mapping = real_walk_leg_mapping(side)
     trial = read_xsens(REAL / "gait" / "rawimu", mapping, side=side)
     with pytest.warns(ExcitationWarning, match="knee axis from the thigh sensor"):
         cal = calibrate_leg(trial)

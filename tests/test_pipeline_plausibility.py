@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from simcache import cached_simulation, data_dir
+from simcache import cached_simulation, data_dir, real_walk_leg_mapping
 
 import lowerlimb as ll
 from lowerlimb.calibration.plausibility import WrongSideError
@@ -76,16 +76,7 @@ def test_plausible_lengths_are_untouched(left_walk):
 @pytest.mark.skipif(data_dir() is None or not (data_dir() / "gait").is_dir(), reason="no gait/ data")
 @pytest.mark.parametrize("side", ["left", "right"])
 def test_real_walk_catches_the_wrong_side(side):
-    ids = {
-        "pelvis": "00B40B91",
-        "left_thigh": "00B40C45",
-        "right_thigh": "00B40C3C",
-        "left_shank": "00B40C44",
-        "right_shank": "00B40C47",
-        "left_foot": "00B40C55",
-        "right_foot": "00B40C48",
-    }
-    mapping = {"pelvis": ids["pelvis"]} | {s: ids[f"{side}_{s}"] for s in ("thigh", "shank", "foot")}
+    mapping = real_walk_leg_mapping(side)
     other = "right" if side == "left" else "left"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
