@@ -21,18 +21,22 @@ from __future__ import annotations
 
 import time
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any, Protocol
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from lowerlimb.calibration._prepare import (
+    PreparedSignals,
     check_duration,
     check_rate,
     check_signal,
     joint_signals,
     prepare_signals,
 )
+from lowerlimb.calibration.cutoff_probe import with_cutoff_shifts
 from lowerlimb.calibration.excitation import issue_warnings
 from lowerlimb.calibration.hinge_joint import fit_hinge_joint
 from lowerlimb.calibration.impact_window import impact_keep_mask
@@ -300,32 +304,12 @@ def calibrate_leg(
             ("ankle", ankle_data, pa, ca, ankle_prior, ankle_keep),
         )
     )
+    if opts.cutoff_probe:
+        setup = {"hip": (p, c, hip_prior, hip_keep), "ankle": (pa, ca, ankle_prior, ankle_keep)}
+        hip, ankle = _probe_cutoffs(hip, ankle, setup, acc, gyr, sig, method, opts)
     priors = {n: pr.to_dict() for n, pr in (("hip", hip_prior), ("ankle", ankle_prior)) if pr is not None}
     if opts.anthropometric_prior and opts.knee_line_prior:
-        cap = caps.get(f"{pk}-{ck}")
-        cuts = [None] if cap is None else [None, *(f * cap for f in opts.knee_line_probe_factors)]
-        probe_data = (joint_signals(acc, gyr, sig, pk, ck, opts, None, hz, own_band=False) for hz in cuts)
-        probes = [_knee_probe(knee, d, method, opts) for d in probe_data]
-        knee, line = with_knee_line(
-            knee,
-            hip.center_in_child_sensor,
-            ankle.center_in_parent_sensor,
-            probes,
-            mean_m=opts.knee_line_mean_m,
-            std_m=opts.knee_line_std_m,
-            min_data_std_m=opts.knee_line_min_data_std_m,
-            axis_mismatch_rad=(
-                standing_axis_mismatch(
-                    knee, acc[pk][: sig.n_still].mean(axis=0), acc[ck][: sig.n_still].mean(axis=0)
-                )
-                if sig.n_still > 0
-                else 0.0
-            ),
-            max_mismatch_rad=np.radians(opts.knee_line_max_mismatch_deg),
-        )
-        priors["knee_line"] = line.to_dict()
-        if not line.applied:
-            knee = _with_warning(knee, axis_mismatch_message(line.axis_mismatch_deg))
+        knee, priors["knee_line"] = _knee_line(knee, hip, ankle, acc, gyr, sig, caps, method, opts)
     runtime = time.perf_counter() - t0
     return LegCalibration(
         side=side,
@@ -340,6 +324,77 @@ def calibrate_leg(
         rigid_band_cap_hz=caps,
         priors=priors,
     )
+
+
+def _knee_line(
+    knee: HingeJointCalibration,
+    hip: SphericalJointCalibration,
+    ankle: SphericalJointCalibration,
+    acc: dict[str, FloatArray],
+    gyr: dict[str, FloatArray],
+    sig: PreparedSignals,
+    caps: dict[str, float | None],
+    method: str,
+    options: CalibrationOptions,
+) -> tuple[HingeJointCalibration, dict[str, Any]]:
+    """The knee moved along its axis by the mechanical-axis prior, and the record.
+
+    See :mod:`~lowerlimb.calibration.knee_line`; the cut-off probes run only where the prior applies.
+    """
+    pk, ck, _ = JOINT_SENSORS["knee"]
+    n = sig.n_still
+    mismatch = (
+        standing_axis_mismatch(knee, acc[pk][:n].mean(axis=0), acc[ck][:n].mean(axis=0)) if n > 0 else 0.0
+    )
+    max_mismatch = float(np.radians(options.knee_line_max_mismatch_deg))
+    probes = []
+    if abs(mismatch) <= max_mismatch:
+        cap = caps.get(f"{pk}-{ck}")
+        cuts = [None] if cap is None else [None, *(f * cap for f in options.knee_line_probe_factors)]
+        for hz in cuts:
+            data = joint_signals(acc, gyr, sig, pk, ck, options, None, hz, own_band=False)
+            probes.append(_knee_probe(knee, data, method, options))
+    knee, line = with_knee_line(
+        knee,
+        hip.center_in_child_sensor,
+        ankle.center_in_parent_sensor,
+        probes,
+        mean_m=options.knee_line_mean_m,
+        std_m=options.knee_line_std_m,
+        min_data_std_m=options.knee_line_min_data_std_m,
+        axis_mismatch_rad=mismatch,
+        max_mismatch_rad=max_mismatch,
+    )
+    if not line.applied:
+        knee = _with_warning(knee, axis_mismatch_message(line.axis_mismatch_deg))
+    return knee, line.to_dict()
+
+
+def _probe_cutoffs(
+    hip: SphericalJointCalibration,
+    ankle: SphericalJointCalibration,
+    setup: Mapping[str, tuple[str, str, CenterPrior | None, ArrayLike | None]],
+    acc: dict[str, FloatArray],
+    gyr: dict[str, FloatArray],
+    sig: PreparedSignals,
+    method: str,
+    options: CalibrationOptions,
+) -> tuple[SphericalJointCalibration, SphericalJointCalibration]:
+    """Hip and ankle with their cut-off shifts recorded (:mod:`~lowerlimb.calibration.cutoff_probe`).
+
+    ``setup`` is ``{joint: (parent sensor, child sensor, prior, keep mask)}`` of the main fits.
+    """
+
+    def refit(name: str, data: SphericalData, o: CalibrationOptions) -> SphericalJointCalibration:
+        s, t, pr, kp = setup[name]
+        m = method if method in ("casadi", "gn") else "casadi"
+        return fit_spherical(
+            data, method=m, options=o, joint=name, parent_sensor=s, child_sensor=t, prior=pr, keep=kp
+        )
+
+    pairs = {k: (v[0], v[1]) for k, v in setup.items()}
+    out = with_cutoff_shifts({"hip": hip, "ankle": ankle}, pairs, acc, gyr, sig, options, refit)
+    return out["hip"], out["ankle"]
 
 
 def _with_warning(knee: HingeJointCalibration, message: str) -> HingeJointCalibration:

@@ -178,6 +178,10 @@ class CalibrationOptions:
             elevation above the standing horizontal agrees in the thigh and the shank
             sensor to within this, deg (a hinge keeps it; soft tissue on a real
             thigh does not).
+        cutoff_probe: repeat the hip and ankle fits with every prefilter cut-off
+            widened and record how far each centre moves
+            (:mod:`~lowerlimb.calibration.cutoff_probe`; a record, no estimate changes).
+        cutoff_probe_factor: the widening factor (> 1).
     """
 
     prefilter: bool = True
@@ -237,6 +241,8 @@ class CalibrationOptions:
     knee_line_min_data_std_m: float = 0.005
     knee_line_probe_factors: tuple[float, ...] = (1.5, 3.0)
     knee_line_max_mismatch_deg: float = 5.0
+    cutoff_probe: bool = True
+    cutoff_probe_factor: float = 1.5
 
     def __post_init__(self) -> None:
         if self.angacc_window_s <= 0:
@@ -268,6 +274,8 @@ class CalibrationOptions:
             raise InputError(f"impact_joints may hold 'hip' and 'ankle', got {sorted(unknown)}")
         if not 0.0 <= self.impact_max_excluded < 1.0:
             raise InputError(f"impact_max_excluded must be in [0, 1), got {self.impact_max_excluded}")
+        if not self.cutoff_probe_factor > 1.0:
+            raise InputError(f"cutoff_probe_factor must be > 1, got {self.cutoff_probe_factor}")
         if self.center_bound_m <= 0:
             raise InputError(f"center_bound_m must be > 0 m, got {self.center_bound_m}")
         for name in (

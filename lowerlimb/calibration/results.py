@@ -35,6 +35,13 @@ def _num(v: float) -> float | None:
     return float(v) if np.isfinite(v) else None
 
 
+def _cutoff_shift(d: dict[str, Any], key_prefix: str) -> FloatArray:
+    keys = [key_prefix + f"center_cutoff_shift_in_{f}_sensor" for f in ("parent", "child")]
+    if not all(k in d for k in keys):
+        return np.full(6, np.nan)
+    return np.concatenate([_vec(d[k]) for k in keys])
+
+
 def _opt_list(v: FloatArray) -> list[float | None]:
     return [_num(float(x)) for x in np.asarray(v).ravel()]
 
@@ -65,6 +72,10 @@ class SphericalJointCalibration:
         impact_excluded_fraction: fraction of the samples left out of the fit near
             impacts (0–1; :mod:`~lowerlimb.calibration.impact_window`); the residual
             and the excitation report are those of the samples used.
+        cutoff_shift: (6,) how far ``(c_parent, c_child)`` move when the fit is
+            repeated with every prefilter cut-off widened by half
+            (:mod:`~lowerlimb.calibration.cutoff_probe`), m; NaN when not probed. A
+            systematic spread that the noise-based ``std`` does not see.
     """
 
     joint: str
@@ -81,6 +92,7 @@ class SphericalJointCalibration:
     solve_time_s: float = 0.0
     warnings: list[str] = field(default_factory=list)
     impact_excluded_fraction: float = 0.0
+    cutoff_shift: FloatArray = field(default_factory=lambda: np.full(6, np.nan))
 
     @property
     def center_std_in_parent_sensor(self) -> FloatArray:
@@ -122,6 +134,9 @@ class SphericalJointCalibration:
             warnings=list(self.warnings),
             impact_excluded_fraction=float(self.impact_excluded_fraction),
         )
+        if np.all(np.isfinite(self.cutoff_shift)):
+            d["center_cutoff_shift_in_parent_sensor"] = _list(self.cutoff_shift[:3])
+            d["center_cutoff_shift_in_child_sensor"] = _list(self.cutoff_shift[3:6])
         return d
 
     @classmethod
@@ -145,6 +160,7 @@ class SphericalJointCalibration:
             solve_time_s=float(d.get(key_prefix + "solve_time_s", d.get("solve_time_s", 0.0))),
             warnings=list(d.get(key_prefix + "warnings", [])),
             impact_excluded_fraction=float(d.get(key_prefix + "impact_excluded_fraction", 0.0)),
+            cutoff_shift=_cutoff_shift(d, key_prefix),
         )
 
 

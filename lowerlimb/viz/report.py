@@ -227,6 +227,10 @@ def _warnings_section(calibration: Mapping[str, Any]) -> str:
     return f"<div class='warnings' id='warnings'><h2>Warnings</h2><ul>{items}</ul></div>"
 
 
+#: A centre, its noise spread and its cut-off shift: calibration.json keys before ``_in_*_sensor``.
+_CENTRE_KEYS = ("center", "center_std", "center_cutoff_shift")
+
+
 def _joint_table(calibration: Mapping[str, Any]) -> str:
     rows = []
     for joint in JOINTS:
@@ -236,8 +240,8 @@ def _joint_table(calibration: Mapping[str, Any]) -> str:
             "<tr>"
             f"<th>{_e(joint)}</th><td>{_e(d.get('type', ''))}</td>"
             f"<td>{_e(d.get('parent_sensor', ''))} → {_e(d.get('child_sensor', ''))}</td>"
-            f"<td>{_mm(d.get('center_in_parent_sensor'), d.get('center_std_in_parent_sensor'))}</td>"
-            f"<td>{_mm(d.get('center_in_child_sensor'), d.get('center_std_in_child_sensor'))}</td>"
+            f"<td>{_mm(*(d.get(k + '_in_parent_sensor') for k in _CENTRE_KEYS))}</td>"
+            f"<td>{_mm(*(d.get(k + '_in_child_sensor') for k in _CENTRE_KEYS))}</td>"
             f"<td>{_num(d.get('rms_residual'))} {_e(unit)}</td>"
             f"<td>{_num(d.get('condition_number'))}</td>"
             "</tr>"
@@ -419,10 +423,14 @@ def _vec(v: Any, scale: float = 1.0, digits: int = 3) -> str:
     return "(" + ", ".join(f"{x:.{digits}f}" for x in a) + ")"
 
 
-def _mm(v: Any, std: Any = None) -> str:
+def _mm(v: Any, std: Any = None, shift: Any = None) -> str:
     text = _vec(v, 1000.0, 1)
     if std is not None and np.all(np.isfinite(np.asarray(std, dtype=float))):
         text += f" <span class='std'>± {_vec(std, 1000.0, 1)}</span>"
+    if shift is not None and np.all(np.isfinite(np.asarray(shift, dtype=float))):
+        moved = 1000.0 * float(np.linalg.norm(np.asarray(shift, dtype=float)))
+        tip = "moves this far with the prefilter cut-offs widened by half"
+        text += f" <span class='shift' title='{tip}'>(cut-off: {moved:.0f} mm)</span>"
     return text
 
 

@@ -1,0 +1,66 @@
+"""The cut-off probe: a systematic spread of the hip and ankle centres, recorded beside the noise one."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from lowerlimb.calibration import calibrate_leg
+from lowerlimb.calibration.cutoff_probe import probe_options
+from lowerlimb.calibration.leg import LegCalibration
+from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.errors import InputError
+from lowerlimb.simulation import simulate_bilateral
+from lowerlimb.viz.report import _joint_table
+
+
+def test_probe_options_widen_every_cutoff_and_stay_quiet() -> None:
+    o = CalibrationOptions(cutoff_probe_factor=2.0)
+    w = probe_options(o)
+    assert w.cutoff_factor == 2 * o.cutoff_factor and w.rigid_band_factor == 2 * o.rigid_band_factor
+    assert w.center_std_tol_m == np.inf
+    assert probe_options(CalibrationOptions(cutoff_hz=4.0)).cutoff_hz == pytest.approx(6.0)
+    with pytest.raises(InputError, match="cutoff_probe_factor"):
+        CalibrationOptions(cutoff_probe_factor=1.0)
+
+
+@pytest.fixture(scope="module")
+def walk():
+    sim = simulate_bilateral(20.0, 201)
+    return sim.trial.leg("left"), sim.truth["legs"]["left"]["joints"]
+
+
+def test_shift_sees_the_systematic_error_the_spread_does_not(walk) -> None:
+    """Simulated walk: the hip in the pelvis sensor is centimetres off with a spread of
+    millimetres; the cut-off shift is of the error's size."""
+    trial, truth = walk
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cal = calibrate_leg(trial)
+    hip = cal.hip
+    err = np.linalg.norm(hip.center_in_parent_sensor - np.asarray(truth["hip"]["center_in_parent_sensor"]))
+    std = np.linalg.norm(hip.center_std_in_parent_sensor)
+    shift = np.linalg.norm(hip.cutoff_shift[:3])
+    assert err > 3 * std  # the noise spread misses the error
+    assert shift > 3 * std and err < 4 * shift  # the shift is of its size
+    assert np.all(np.isfinite(cal.ankle.cutoff_shift))
+    # recorded, read back, shown in the report
+    d = cal.to_dict()
+    assert len(d["joints"]["hip"]["center_cutoff_shift_in_parent_sensor"]) == 3
+    back = LegCalibration.from_dict(d)
+    assert np.allclose(back.hip.cutoff_shift, hip.cutoff_shift)
+    assert "(cut-off:" in _joint_table(d)
+
+
+def test_probe_can_be_switched_off_and_changes_no_estimate(walk) -> None:
+    trial, _ = walk
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        on = calibrate_leg(trial)
+        off = calibrate_leg(trial, options=CalibrationOptions(cutoff_probe=False))
+    assert np.all(np.isnan(off.hip.cutoff_shift))
+    assert "center_cutoff_shift_in_parent_sensor" not in off.to_dict()["joints"]["hip"]
+    assert np.allclose(on.hip.center_in_parent_sensor, off.hip.center_in_parent_sensor)
+    assert np.allclose(on.ankle.center_in_child_sensor, off.ankle.center_in_child_sensor)
