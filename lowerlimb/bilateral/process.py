@@ -33,7 +33,13 @@ from typing import Any
 import numpy as np
 
 from ..calibration.options import CalibrationOptions
-from ..calibration.plausibility import PlausibilityParams, SensorOrderError, WrongSideError
+from ..calibration.plausibility import (
+    PlausibilityParams,
+    SensorOrderError,
+    SideEvidenceWarning,
+    WrongSideError,
+    pelvis_turn_side_cue,
+)
 from ..conventions import SIDES, FloatArray
 from ..errors import InputError
 from ..gait import GaitParams
@@ -158,6 +164,20 @@ def _use_mag(trial: BilateralTrial, filter_name: str, use_mag: bool) -> bool:
     return True
 
 
+def _pelvis_turn(leg: TrialResult) -> float:
+    """The leg's pelvis-turn side cue (:func:`~lowerlimb.calibration.plausibility.pelvis_turn_side_cue`)."""
+    t, cal = leg.trial, leg.calibration
+    gyr = {s: t.gyr[s] - cal.gyro_bias.get(s, np.zeros(3)) for s in ("pelvis", "thigh")}
+    reference = t.reference_samples(t.still_period())
+    return pelvis_turn_side_cue(
+        gyr["pelvis"],
+        gyr["thigh"],
+        cal.knee.axis_in_parent_sensor,
+        t.acc["pelvis"][reference].mean(axis=0),
+        t.rate_hz,
+    )
+
+
 def _check_pair_sides(
     legs: dict[str, TrialResult],
     height_m: float,
@@ -176,8 +196,20 @@ def _check_pair_sides(
     :attr:`PelvisParams.model_std_m` each), and each hip on the other side of the sacral
     sensor as well.
 
+    The hip centres are the least determined quantities of a walk (soft tissue and impacts
+    move them by decimetres), so, as for one leg
+    (:func:`~lowerlimb.calibration.plausibility.check_side`), the verdict hears a witness
+    that no joint centre enters: the pelvis turns with each swinging leg
+    (:func:`~lowerlimb.calibration.plausibility.pelvis_turn_side_cue`, < 0 for a left thigh,
+    > 0 for a right one). When both legs' cues confirm their labels by at least
+    ``side_cue_min_corr``, swapped-looking hips give a :class:`SideEvidenceWarning`;
+    swapped columns turn both cues the other way, and the hips still refuse them.
+
     Raises:
-        BilateralSideError: the hips are swapped.
+        BilateralSideError: the hips are swapped and the pelvis's turning does not confirm the sides.
+
+    Warns:
+        SideEvidenceWarning: the hips look swapped, the pelvis's turning confirms the sides given.
     """
     trial = legs["left"].trial
     if trial.standing_samples(1.0, trial.still_period()) == 0:
@@ -210,6 +242,18 @@ def _check_pair_sides(
         and pair.lateral_m < -p.side_min_offset_m
         and abs(pair.lateral_m) >= p.side_min_sigmas * sigma
     ):
+        cue = {s: _pelvis_turn(legs[s]) for s in SIDES}
+        if cue["left"] <= -p.side_cue_min_corr and cue["right"] >= p.side_cue_min_corr:
+            warnings.warn(
+                SideEvidenceWarning(
+                    f"the calibrated right hip centre lies {abs(pair.lateral_m) * 100:.1f} cm to the left of "
+                    f"the left one, as with the left_* and right_* columns swapped, but the pelvis turns with "
+                    f"each leg's swing as with the sides given (correlation {cue['left']:+.2f} left, "
+                    f"{cue['right']:+.2f} right); kept the sides: the hip centres are unreliable in this trial"
+                ),
+                stacklevel=3,
+            )
+            return
         err = BilateralSideError("left", -pair.lateral_m)
         err.args = (
             f"the left_* and right_* sensors look swapped: the calibrated right hip centre lies "
