@@ -246,10 +246,10 @@ def _check_pair_sides(
         if cue["left"] <= -p.side_cue_min_corr and cue["right"] >= p.side_cue_min_corr:
             warnings.warn(
                 SideEvidenceWarning(
-                    f"the calibrated right hip centre lies {abs(pair.lateral_m) * 100:.1f} cm to the left of "
-                    f"the left one, as with the left_* and right_* columns swapped, but the pelvis turns with "
-                    f"each leg's swing as with the sides given (correlation {cue['left']:+.2f} left, "
-                    f"{cue['right']:+.2f} right); kept the sides: the hip centres are unreliable in this trial"
+                    f"the calibrated right hip centre lies {abs(pair.lateral_m) * 100:.1f} cm to the left "
+                    f"of the left one, as with the left_* and right_* columns swapped, but the pelvis turns "
+                    f"with each leg's swing as with the sides given (correlation {cue['left']:+.2f} left, "
+                    f"{cue['right']:+.2f} right); kept the sides: the hip centres are unreliable here"
                 ),
                 stacklevel=3,
             )
