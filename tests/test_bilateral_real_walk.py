@@ -71,3 +71,30 @@ def test_swapped_legs_of_the_real_walk_are_refused():
         with pytest.raises(BilateralSideError, match="look swapped.*exchange the left_\\* and right_\\*"):
             process_bilateral_trial(swapped)
         process_bilateral_trial(trial)  # as recorded: no error
+
+
+def test_swapped_looking_hips_are_kept_when_the_pelvis_turn_confirms_the_sides(monkeypatch):
+    """The pair verdict hears the pelvis-turn cue: hips that look swapped while both legs' cues
+    confirm their labels give a SideEvidenceWarning, not a refusal (the swapped real walk with
+    the cue made to confirm the labels it was given)."""
+    from lowerlimb.bilateral import process
+    from lowerlimb.calibration.plausibility import SideEvidenceWarning
+    from lowerlimb.io import load_xsens
+    from lowerlimb.io.bilateral_trial import BilateralTrial
+
+    assert DATA is not None
+    mod = _benchmark()
+    rec = load_xsens(mod.raw_dir(DATA), mod.IDS)
+
+    def swap(d: dict) -> dict:
+        out = {"pelvis": d["pelvis"]}
+        for seg in ("thigh", "shank", "foot"):
+            out[f"left_{seg}"], out[f"right_{seg}"] = d[f"right_{seg}"], d[f"left_{seg}"]
+        return out
+
+    swapped = BilateralTrial(
+        rec.time_s, swap(rec.acc), swap(rec.gyr), swap(rec.mag) if rec.mag is not None else None
+    )
+    monkeypatch.setattr(process, "_pelvis_turn", lambda leg: -0.3 if leg.trial.side == "left" else 0.3)
+    with pytest.warns(SideEvidenceWarning, match="pelvis turns with each leg"):
+        process.process_bilateral_trial(swapped)
