@@ -13,16 +13,22 @@ Analysis*, ch. 2–4):
 2. **Footprints.** Each stance has a footprint: the ankle centre at foot-flat and the
    foot's heading. It lies beside the pelvis path (half the step width to its side)
    where the pelvis will be in mid-stance, turned out by the foot's toe-out angle.
-3. **The foot in stance** rolls over the three rockers: from IC it pivots about the
+3. **The foot in stance** rolls over the rockers: from IC it pivots about the
    heel point (pitch ``θ_ic`` toes up → 0, heel rocker), stays flat and still
-   (ankle rocker, the foot-stationary period), then pivots about the metatarsal
-   heads (0 → ``−θ_to``) until TO. The pivot point is fixed in the world, so the
-   contact point has zero velocity throughout stance and the whole foot is still
-   while flat.
+   (ankle rocker, the foot-stationary period), then the heel rises about the
+   metatarsophalangeal (MTP) joint while the toes lie flat (forefoot rocker), and
+   in pre-swing the toe segment tilts about the toe tip, the last point in contact,
+   until TO, when the tip leaves the ground (toe rocker; :mod:`.toe_rocker`). The
+   rearfoot's plantarflexion rate peaks before TO; its pitch reaches ``−θ_to`` at TO
+   and its largest plantarflexion shortly after. Each pivot is fixed in the world,
+   so the contact point has zero velocity throughout stance and the whole foot is
+   still while flat.
 4. **The foot in swing** goes from its TO pose to the next IC pose along quintic
    Hermite curves that match position, velocity and acceleration at both ends (the
-   pose is C² except at IC, foot-flat and heel-off, where the rocker pitch is only
-   C¹), plus a lift that peaks in early swing.
+   pose is C² except at IC and foot-flat, where the rocker pitch is only C¹; the
+   ground reaction falls continuously to zero at TO, so the swing starts C² from
+   the TO state), plus a lift that peaks in early swing; the MTP joint returns to
+   neutral by the next contact.
 5. **The pelvis** follows the path at the walking speed (ramped up from standing),
    sways over the stance foot, tilts, drops and rotates a few degrees per stride;
    its height is lowered where a leg could not otherwise reach its foot with the
@@ -43,6 +49,7 @@ import numpy as np
 
 from ..conventions import FloatArray, rot_z
 from .motions import smoothstep
+from .toe_rocker import PreSwingParams, push_off_shape, toe_roll_shape
 
 __all__ = [
     "FootPlan",
@@ -60,7 +67,9 @@ MID_STANCE_FRACTION = 0.20
 
 #: 1 / max of s³(1 − s)⁵ on [0, 1] (at s = 3/8): the swing lift peaks early in swing, where
 #: the knee is most flexed (Perry 2010); it joins toe-off with zero velocity and acceleration
-#: (a C² join: a step in acceleration would ring through the spline of the joint angles).
+#: (a C² join: a step in acceleration would ring through the spline of the joint angles). It
+#: comes on top of the push-off's own rise: the toe rocker and the plantarflexion that goes on
+#: after toe-off (:mod:`.toe_rocker`) already carry the ankle upwards into swing.
 _LIFT_NORM = 1.0 / ((3 / 8) ** 3 * (5 / 8) ** 5)
 
 #: Gain of the swing time warp (:func:`_swing_warp`); its bump s³(1 − s)⁵ peaks at s = 3/8.
@@ -126,7 +135,9 @@ def draw_walk(rng: np.random.Generator) -> WalkDraw:
         to_pitch_rad=np.deg2rad(u(55.0, 65.0)),
         step_width_m=u(0.08, 0.14),
         toe_out_rad=(np.deg2rad(u(2.0, 10.0)), np.deg2rad(u(2.0, 10.0))),
-        clearance_m=u(0.08, 0.11),
+        # on top of the push-off's own rise, 5-7 cm keep the swing's peak knee flexion where the
+        # toeless single-rocker foot had it with 8-11 cm (70-80°)
+        clearance_m=u(0.05, 0.07),
         pelvis_drop_m=u(0.003, 0.008),
         heading0_rad=u(-np.pi, np.pi),
         turn_amplitude_rad=u(0.3, 0.8),
@@ -160,19 +171,27 @@ class FootPlan:
         ankle_m: (N, 3) ankle centre in ENU, m.
         rotation: (N, 3, 3) foot segment frame → ENU.
         events: The foot's true events.
+        toe_tip_m: (N, 3) tip of the (sensorless) toe segment in ENU, m: on the ground and
+            still from foot-flat until toe-off, which is when it leaves the ground.
     """
 
     ankle_m: FloatArray
     rotation: FloatArray
     events: StanceEvents
+    toe_tip_m: FloatArray
 
 
 @dataclass(frozen=True)
 class _FootGeometry:
-    """Points of the foot in its segment frame (origin at the ankle centre), m."""
+    """Points of the foot in its segment frame (origin at the ankle centre), m.
+
+    ``heel`` and ``toe`` lie on the sole; ``mtp`` is the metatarsophalangeal joint centre,
+    the hinge of the (sensorless) toe segment that reaches from it to ``toe``.
+    """
 
     heel: FloatArray
     mtp: FloatArray
+    toe: FloatArray
 
 
 @dataclass(frozen=True)
@@ -187,34 +206,45 @@ class _Stance:
     toe_off: float
 
 
-def _stance_pose(st: _Stance, d: WalkDraw, foot: _FootGeometry, T: float) -> Callable[[float], tuple]:
-    """Pose ``t ↦ (ankle (3,), pitch, heading)`` of the foot over the rockers of ``st``."""
+def _stance_pose(
+    st: _Stance, d: WalkDraw, foot: _FootGeometry, T: float, pre: PreSwingParams
+) -> Callable[[float], tuple]:
+    """Pose ``t ↦ (ankle (3,), pitch, heading, MTP dorsiflexion)`` over the rockers of ``st``.
+
+    Pitch and MTP dorsiflexion in rad; the push-off follows :mod:`.toe_rocker`.
+    """
     R_flat = rot_z(st.heading) @ R_ENU_SEGMENT0
     heel_w = st.ankle + R_flat @ foot.heel
-    mtp_w = st.ankle + R_flat @ foot.mtp
+    toe_w = st.ankle + R_flat @ foot.toe
+    standing = st.ic is None
+    # largest plantarflexion after toe-off, and the pitch scale that puts the draw's
+    # to_pitch at toe-off
+    t_max = st.toe_off + pre.largest_plantarflexion_fraction * T
+    u_to = (st.toe_off - st.heel_off) / (t_max - st.heel_off)
+    pitch_max = d.to_pitch_rad / push_off_shape(u_to, standing)
+    roll = (d.stance_fraction - 0.5) * T  # pre-swing: from the other foot's contact to toe-off
+    # the toe segment's tilt at toe-off: the rearfoot's pitch less the MTP dorsiflexion
+    toe_tilt = max(d.to_pitch_rad - np.deg2rad(pre.mtp_at_toe_off_deg), 0.0)
 
-    def pose(t: float) -> tuple[FloatArray, float, float]:
+    def pose(t: float) -> tuple[FloatArray, float, float, float]:
         if st.ic is not None and t < st.foot_flat:
             v = (t - st.ic) / (st.foot_flat - st.ic)
             # the foot is most toes-up at contact (rate 0); the floor then slaps it down
             p = d.ic_pitch_rad * (1.0 - v) ** 3 * (1.0 + 3.0 * v)
-        elif t <= st.heel_off:
-            p = 0.0
-        else:
-            v = (t - st.heel_off) / (st.toe_off - st.heel_off)
-            # from standing, the heel rises with zero rate, curvature and jerk (a straight knee
-            # bends like the square root of the heel's rise)
-            f = v**4 * (4.0 - 3.0 * v) if st.ic is None else v**2
-            p = -d.to_pitch_rad * f
-        R = R_flat @ rot_z(p)
-        ankle = heel_w - R @ foot.heel if p >= 0.0 else mtp_w - R @ foot.mtp
-        return ankle, p, st.heading
+            return heel_w - R_flat @ rot_z(p) @ foot.heel, p, st.heading, 0.0
+        if t <= st.heel_off:
+            return st.ankle.copy(), 0.0, st.heading, 0.0
+        p = -pitch_max * push_off_shape((t - st.heel_off) / (t_max - st.heel_off), standing)
+        phi = -toe_tilt * toe_roll_shape((t - st.toe_off + roll) / roll)  # toe segment pitch
+        # the toe tip stays put; the MTP joint turns about it, the rearfoot about the MTP joint
+        mtp_w = toe_w + R_flat @ rot_z(phi) @ (foot.mtp - foot.toe)
+        return mtp_w - R_flat @ rot_z(p) @ foot.mtp, p, st.heading, phi - p
 
     return pose
 
 
 def _state(f: Callable[[float], tuple], t: float, eps: float = 1e-4) -> tuple[FloatArray, ...]:
-    """Value, first and second derivative of ``f``'s (ankle, pitch, heading) at ``t``."""
+    """Value, first and second derivative of ``f``'s (ankle, pitch, heading, MTP) at ``t``."""
     vals = [np.concatenate([f(t + k * eps)[0], f(t + k * eps)[1:]]) for k in (-1, 0, 1)]
     return vals[1], (vals[2] - vals[0]) / (2 * eps), (vals[2] - 2 * vals[1] + vals[0]) / eps**2
 
@@ -307,24 +337,27 @@ def _swing_warp(s: FloatArray) -> FloatArray:
 
 
 def _foot_samples(
-    stances: list[_Stance], d: WalkDraw, foot: _FootGeometry, t: FloatArray
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Ankle (N, 3), pitch (N,) and heading (N,) of one foot over its stances and swings."""
+    stances: list[_Stance], d: WalkDraw, foot: _FootGeometry, t: FloatArray, pre: PreSwingParams
+) -> FloatArray:
+    """(N, 6) ankle (3), pitch, heading and MTP dorsiflexion of one foot over its stances and swings.
+
+    In swing the MTP joint relaxes to neutral by the next contact (one more Hermite curve).
+    """
     T = d.stride_time_s
-    out = np.full((t.size, 5), np.nan)
+    out = np.full((t.size, 6), np.nan)
     for j, st in enumerate(stances):
-        pose = _stance_pose(st, d, foot, T)
+        pose = _stance_pose(st, d, foot, T, pre)
         start = -np.inf if st.ic is None else st.ic
         inside = (t >= start) & (t <= st.toe_off)
         for k in np.flatnonzero(inside):
-            a, p, h = pose(float(t[k]))
-            out[k] = [*a, p, h]
+            a, p, h, m = pose(float(t[k]))
+            out[k] = [*a, p, h, m]
         if j + 1 == len(stances):
             break
         nxt = stances[j + 1]
         assert nxt.ic is not None
         y0, v0, a0 = _state(pose, st.toe_off)
-        y1, v1, _ = _state(_stance_pose(nxt, d, foot, T), nxt.ic)
+        y1, v1, _ = _state(_stance_pose(nxt, d, foot, T, pre), nxt.ic)
         a1 = np.zeros_like(v1)  # contact is a C¹ join: the floor's push is a step in acceleration
         swing = (t > st.toe_off) & (t < nxt.ic)
         D = nxt.ic - st.toe_off
@@ -333,7 +366,14 @@ def _foot_samples(
         y[:, :2] = _hermite5(y0[:2], v0[:2], a0[:2], y1[:2], v1[:2], a1[:2], D, _swing_warp(s))
         y[:, 2] += d.clearance_m * _LIFT_NORM * s**3 * (1.0 - s) ** 5
         out[swing] = y
-    return out[:, :3], out[:, 3], out[:, 4]
+    return out
+
+
+def _toe_tip(samples: FloatArray, foot: _FootGeometry) -> FloatArray:
+    """(N, 3) toe tip in ENU, m, from the (N, 6) samples of :func:`_foot_samples`."""
+    R_rear = rot_z(samples[:, 4]) @ R_ENU_SEGMENT0 @ rot_z(samples[:, 3])
+    R_toe = rot_z(samples[:, 4]) @ R_ENU_SEGMENT0 @ rot_z(samples[:, 3] + samples[:, 5])
+    return np.asarray(samples[:, :3] + R_rear @ foot.mtp + R_toe @ (foot.toe - foot.mtp))
 
 
 def plan_feet(
@@ -343,7 +383,8 @@ def plan_feet(
     t0: float,
     path: tuple[FloatArray, FloatArray],
     stand_ankle: FloatArray,
-    foot: tuple[FloatArray, FloatArray],
+    foot: tuple[FloatArray, FloatArray, FloatArray],
+    pre: PreSwingParams | None = None,
 ) -> FootPlan:
     """One foot's planned poses and events (see the module docstring, steps 2–4).
 
@@ -354,12 +395,14 @@ def plan_feet(
         t0: Time the walk starts (the right heel rises), s.
         path: Pelvis heading (N,), rad, and path point (N, 2), m.
         stand_ankle: (3,) the ankle centre while standing, ENU, m.
-        foot: Heel and metatarsal-head points (3,) in the foot segment frame, m.
+        foot: Heel, MTP joint centre and toe tip (3,) in the foot segment frame, m.
+        pre: Push-off geometry and timing (defaults: :class:`PreSwingParams`).
     """
-    geom = _FootGeometry(np.asarray(foot[0], float), np.asarray(foot[1], float))
+    pre = PreSwingParams() if pre is None else pre
+    geom = _FootGeometry(*(np.asarray(p, float) for p in foot))
     stances = _stances(side, d, t, t0, path, stand_ankle)
-    ankle, pitch, heading = _foot_samples(stances, d, geom, t)
-    R = rot_z(heading) @ R_ENU_SEGMENT0 @ rot_z(pitch)
+    y = _foot_samples(stances, d, geom, t, pre)
+    R = rot_z(y[:, 4]) @ R_ENU_SEGMENT0 @ rot_z(y[:, 3])
     walking = [st for st in stances if st.ic is not None]
     end = t[-1]
     events = StanceEvents(
@@ -369,4 +412,4 @@ def plan_feet(
             -1, 2
         ),
     )
-    return FootPlan(ankle, R, events)
+    return FootPlan(y[:, :3].copy(), R, events, _toe_tip(y, geom))

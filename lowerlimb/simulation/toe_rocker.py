@@ -1,0 +1,105 @@
+"""The simulated foot's push-off: heel rise about the metatarsal heads, then the toes roll off.
+
+The simulated foot is a rearfoot (the IMU's segment, the leg model's foot) with a
+massless toe segment hinged to it at the metatarsophalangeal (MTP) joint. The toe
+segment carries no sensor and is not in the leg model; it only constrains where the
+rearfoot can be while the toes touch the ground. Terminal stance and pre-swing then
+go as Perry & Burnfield (2010, *Gait Analysis*, ch. 4 and 7) describe them:
+
+1. **Forefoot rocker** (heel-off → toe roll): the rearfoot rotates about the MTP joint
+   centre, fixed in the world, while the toes lie flat: the MTP joint dorsiflexes by
+   as much as the heel rises.
+2. **Toe rocker** (pre-swing, from the other foot's initial contact to toe-off): the
+   limb unloads onto the other foot, and the toe segment itself tilts about the toe
+   tip, which is the last point in contact (the hallux is the last part of the foot
+   loaded; Perry & Burnfield 2010, ch. 4 and 7). The MTP joint, and the rearfoot with
+   it, lifts off the ground while the tip stays put; at toe-off the MTP joint is
+   dorsiflexed by about 50°.
+3. **Toe-off** is the instant the toe tip leaves the ground.
+
+The rearfoot pitch (its rotation about the foot's medio-lateral axis) does not stop
+at toe-off: the ankle's largest plantarflexion comes in initial swing, a few per cent
+of the cycle after toe-off (Perry & Burnfield 2010, ch. 7: peak plantarflexion ~20° at
+the start of initial swing; Winter 2009, *Biomechanics and Motor Control of Human
+Movement*, app. A: peak plantarflexion ~62-64 % of the cycle for a toe-off at ~60 %),
+so the rearfoot's plantarflexion rate rises from zero at heel-off, peaks in pre-swing
+and has already slowed at toe-off. The pitch is a polynomial bell of its rate between
+heel-off and that largest plantarflexion (:func:`push_off_shape`); the swing then
+continues from the toe-off state (position, velocity and acceleration: the ground
+reaction falls continuously to zero at toe-off, so the foot's acceleration does not
+jump there).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["PreSwingParams", "push_off_shape", "toe_roll_shape"]
+
+
+@dataclass(frozen=True)
+class PreSwingParams:
+    """Geometry and timing of the simulated foot's push-off.
+
+    Attributes:
+        mtp_ahead_fraction: The MTP joint's functional rotation axis lies this fraction of
+            the foot length ahead of the ankle centre. The anatomical axis, through the
+            first and fifth metatarsal heads, crosses the foot's midline at ~68 % of the
+            foot length from the heel, and the functional axis of the joint in walking lies
+            ~16 % of the foot length anterior to it ("Three-dimensional kinematics of the
+            human metatarsophalangeal joint during level walking", Front. Bioeng.
+            Biotechnol. 2:73, 2014, doi:10.3389/fbioe.2014.00073): ~84 % from the heel,
+            and the simulator's heel is 22 % behind the ankle.
+        mtp_height_m: Height of that axis above the sole with the foot flat, m (the
+            metatarsal heads' centres ~2 cm up, the functional axis ~2 % of the foot length
+            above them; same source).
+        toe_tip_fraction: The toe tip lies this fraction of the foot length ahead of the
+            ankle, on the sole (de Leva 1996's foot length runs heel to toe tip).
+        mtp_at_toe_off_deg: MTP dorsiflexion at toe-off, deg: the toes dorsiflex 40-55°
+            in pre-swing (Perry & Burnfield 2010, ch. 7; Bruening et al. 2012); the toe
+            segment's own tilt at toe-off is the rearfoot's pitch minus this.
+        largest_plantarflexion_fraction: The rearfoot's plantarflexion rate returns to
+            zero this fraction of the stride after toe-off (peak ankle plantarflexion in
+            initial swing, a few per cent of the cycle after toe-off; Winter 2009, app. A;
+            Perry & Burnfield 2010, ch. 7).
+    """
+
+    mtp_ahead_fraction: float = 0.62
+    mtp_height_m: float = 0.025
+    toe_tip_fraction: float = 0.78
+    mtp_at_toe_off_deg: float = 50.0
+    largest_plantarflexion_fraction: float = 0.05
+
+
+def push_off_shape(u: float, from_standing: bool) -> float:
+    """Normalised rearfoot pitch 0 → 1 over heel-off (u = 0) → largest plantarflexion (u = 1).
+
+    The rate is the bell ``∝ u^a (1 − u)``: zero at heel-off and at the largest
+    plantarflexion, fastest at ``u = a / (a + 1)``. Walking, ``a = 2`` (the heel leaves the
+    floor with zero rate and zero angular acceleration, peak rate at 2/3); from standing,
+    ``a = 3`` (zero jerk as well: a straight knee bends like the square root of the heel's
+    rise; peak at 3/4).
+
+    Args:
+        u: Time from heel-off over the time from heel-off to the largest plantarflexion
+            (may exceed 1 for the derivatives at toe-off: the polynomial continues).
+        from_standing: The first heel rise of the walk.
+
+    Returns:
+        The pitch as a fraction of the largest plantarflexion.
+    """
+    if from_standing:
+        return float(5.0 * u**4 - 4.0 * u**5)
+    return float(4.0 * u**3 - 3.0 * u**4)
+
+
+def toe_roll_shape(v: float) -> float:
+    """Normalised toe-segment tilt 0 → 1 over the toe rocker (v = 0 its start, v = 1 toe-off).
+
+    ``v³``: the toe starts to tilt with zero rate and zero angular acceleration (the
+    rearfoot's pose stays C² where its pivot moves from the MTP joint to the toe tip), and
+    its tilt still accelerates when the tip leaves: the MTP joint is lifted at a steady
+    acceleration through toe-off, which the swing continues (it starts from the toe-off
+    state).
+    """
+    return float(v**3) if v > 0.0 else 0.0
