@@ -25,10 +25,10 @@ Analysis*, ch. 2–4):
    still while flat.
 4. **The foot in swing** goes from its TO pose to the next IC pose along quintic
    Hermite curves that match position, velocity and acceleration at both ends (the
-   pose is C² except at IC and foot-flat, where the rocker pitch is only C¹; the
-   ground reaction falls continuously to zero at TO, so the swing starts C² from
-   the TO state), plus a lift that peaks in early swing; the MTP joint returns to
-   neutral by the next contact.
+   pose is C² except at IC, where the swing's approach meets the heel rocker only
+   C¹; the ground reaction falls continuously to zero at TO, so the swing starts C²
+   from the TO state), plus a lift that peaks in early swing; the MTP joint returns
+   to neutral by the next contact.
 5. **The pelvis** follows the path at the walking speed (ramped up from standing),
    sways over the stance foot, tilts, drops and rotates a few degrees per stride;
    its height is lowered where a leg could not otherwise reach its foot with the
