@@ -23,7 +23,7 @@ from lowerlimb.simulation.sensor_errors import resample_at
 
 #: sha256 of the rigid walk (seed 5, 8 s) rounded to 1e-6, recorded before the profile existed
 #: (re-recorded when the foot got its toe segment and push-off: the walk itself changed).
-RIGID_WALK_SHA256 = "ec9df297c6015a07832b2928ff32c5e93d8ff4da65aa24d45223938443d83176"
+RIGID_WALK_SHA256 = "f4a4fe829209882bf72cd55c0e5d47c22b8ba448ff0fc3f011c67778cf8a87d2"
 SEED, DURATION_S = 5, 10.0
 #: Impact window after each initial contact and mid-swing window length, s.
 WINDOW_S = 0.15

@@ -13,8 +13,8 @@ go as Perry & Burnfield (2010, *Gait Analysis*, ch. 4 and 7) describe them:
    limb unloads onto the other foot, and the toe segment itself tilts about the toe
    tip, which is the last point in contact (the hallux is the last part of the foot
    loaded; Perry & Burnfield 2010, ch. 4 and 7). The MTP joint, and the rearfoot with
-   it, lifts off the ground while the tip stays put; at toe-off the MTP joint is
-   dorsiflexed by about 50°.
+   it, is lifted up and forwards while the tip stays put; the toe's tilt accelerates
+   up to toe-off, so the joint's dorsiflexion peaks shortly before it.
 3. **Toe-off** is the instant the toe tip leaves the ground.
 
 The rearfoot pitch (its rotation about the foot's medio-lateral axis) does not stop
@@ -55,9 +55,13 @@ class PreSwingParams:
             above them; same source).
         toe_tip_fraction: The toe tip lies this fraction of the foot length ahead of the
             ankle, on the sole (de Leva 1996's foot length runs heel to toe tip).
-        mtp_at_toe_off_deg: MTP dorsiflexion at toe-off, deg: the toes dorsiflex 40-55°
-            in pre-swing (Perry & Burnfield 2010, ch. 7; Bruening et al. 2012); the toe
-            segment's own tilt at toe-off is the rearfoot's pitch minus this.
+        mtp_at_toe_off_deg: MTP dorsiflexion at toe-off, deg. The toes dorsiflex most
+            during push-off, 60° barefoot and 45-50° in soft shoes (Bojsen-Møller &
+            Lamoreux 1979, "Significance of free dorsiflexion of the toes in walking", Acta
+            Orthop. Scand. 50); that peak comes shortly before toe-off, when the toe rolls
+            off over its tip faster than the rearfoot still rises. With 30° here and the
+            rearfoot at 55-65° the toe segment is tilted 25-35° at toe-off and the joint
+            peaks at ~40-45° some 40 ms earlier.
         largest_plantarflexion_fraction: The rearfoot's plantarflexion rate returns to
             zero this fraction of the stride after toe-off (peak ankle plantarflexion in
             initial swing, a few per cent of the cycle after toe-off; Winter 2009, app. A;
@@ -67,7 +71,7 @@ class PreSwingParams:
     mtp_ahead_fraction: float = 0.62
     mtp_height_m: float = 0.025
     toe_tip_fraction: float = 0.78
-    mtp_at_toe_off_deg: float = 50.0
+    mtp_at_toe_off_deg: float = 30.0
     largest_plantarflexion_fraction: float = 0.05
 
 
