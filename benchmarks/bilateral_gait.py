@@ -10,7 +10,11 @@ folder. Scored against Vicon (Plug-in Gait, same clock, data/README.md):
   (thigh sensor), shank = ankle centre to the knee axis line (shank sensor), vs the
   medians of |HJC − KJC| and |KJC − AJC| (as benchmarks/real_gait.py);
 - knee flexion RMSE vs ``L_Femur_L_Tibia`` / ``R_Femur_R_Tibia``, both zeroed on frames
-  200–1000 (standing), scored on frames 1120–2074 (the authors' walking window);
+  200–1000 (standing), scored on frames 1120–2074 (the authors' walking window); and, as
+  a second reference that no knee axis enters, vs the *joint-centre angle* between Vicon's
+  own HJC→KJC and KJC→AJC (zeroed the same way), with the offset and gain of a line fit
+  (IMU = gain × reference + offset) against each reference, so that a disagreement that
+  is the same on both legs can be told from one that is not;
 - stride length and step width (``gait.json``'s strides) vs the Vicon ankle centres
   (LAJC/RAJC) at the marker initial contacts (Zeni et al. 2008), straight strides, with
   the event and stride helpers of benchmarks/gait_events.py; here the inter-foot anchor
@@ -78,6 +82,25 @@ def _stats(x: list[float]) -> dict[str, float]:
     }
 
 
+def joint_centre_knee_deg(vicon: dict, P: str) -> np.ndarray:
+    """Knee angle (N,) deg between Vicon's HJC→KJC and KJC→AJC (no knee axis enters)."""
+    th = vicon[P + "KJC"] - vicon[P + "HJC"]
+    sh = vicon[P + "AJC"] - vicon[P + "KJC"]
+    c = np.sum(th * sh, axis=1) / (np.linalg.norm(th, axis=1) * np.linalg.norm(sh, axis=1))
+    return np.degrees(np.arccos(np.clip(c, -1.0, 1.0)))
+
+
+def _line_fit(est: np.ndarray, ref: np.ndarray) -> dict[str, float]:
+    """RMSE, and offset and gain of est = gain × ref + offset (deg), over finite samples."""
+    m = np.isfinite(est) & np.isfinite(ref)
+    gain, offset = np.polyfit(ref[m], est[m], 1)
+    return {
+        "rmse_deg": float(np.sqrt(np.mean((est[m] - ref[m]) ** 2))),
+        "offset_deg": float(offset),
+        "gain": float(gain),
+    }
+
+
 def score_legs(result: Any, vicon: dict) -> dict[str, dict[str, float]]:
     """Segment lengths and knee flexion RMSE of each leg."""
     out = {}
@@ -96,6 +119,8 @@ def score_legs(result: Any, vicon: dict) -> dict[str, dict[str, float]]:
         knee = np.degrees(result.legs[side].angles_rad[:, names.index("knee_flexion")])
         ref = vicon[f"{P}_Femur_{P}_Tibia"][0].astype(float)
         o, r = knee - np.nanmean(knee[STAND]), ref - np.nanmean(ref[STAND])
+        jc = joint_centre_knee_deg(vicon, P)
+        jc = jc - np.nanmean(jc[STAND])
         hip = np.degrees(result.legs[side].angles_rad[:, names.index("hip_flexion")])
         href = -vicon[f"Root_{P}_Femur"][:, 0].astype(float)  # as benchmarks/real_gait.py
         ho, hr = hip - np.nanmean(hip[STAND]), href - np.nanmean(href[STAND])
@@ -108,6 +133,9 @@ def score_legs(result: Any, vicon: dict) -> dict[str, dict[str, float]]:
             "shank_err_mm": 1000 * shank - v_shank,
             "knee_flexion_rmse_deg": float(np.sqrt(np.nanmean((o[WALK] - r[WALK]) ** 2))),
             "hip_flexion_rmse_deg": float(np.sqrt(np.nanmean((ho[WALK] - hr[WALK]) ** 2))),
+            "knee_vs_vicon": _line_fit(o[WALK], r[WALK]),
+            "knee_vs_joint_centres": _line_fit(o[WALK], jc[WALK]),
+            "vicon_knee_vs_joint_centres": _line_fit(r[WALK], jc[WALK]),
         }
     return out
 
@@ -205,6 +233,21 @@ def markdown(res: dict[str, Any]) -> str:
             f"{s['shank_mm']:.0f} ({s['shank_vicon_mm']:.0f}, {s['shank_err_mm']:+.0f}) | "
             f"{s['knee_flexion_rmse_deg']:.1f} | {s['hip_flexion_rmse_deg']:.1f} |"
         )
+    L += [
+        "",
+        "Knee flexion against two references (walking window, zeroed on standing): Vicon's knee "
+        "model, and the joint-centre angle between Vicon's HJC→KJC and KJC→AJC (no knee axis). "
+        "RMSE °, and offset ° / gain of the line fit (first = gain × second + offset):",
+        "",
+        "| side | IMU vs Vicon knee | IMU vs joint-centre angle | Vicon knee vs joint-centre angle |",
+        "|---|---|---|---|",
+    ]
+    for side, s in res["legs"].items():
+        cells = [
+            f"{f['rmse_deg']:.1f} ({f['offset_deg']:+.1f} / {f['gain']:.2f})"
+            for f in (s["knee_vs_vicon"], s["knee_vs_joint_centres"], s["vicon_knee_vs_joint_centres"])
+        ]
+        L.append(f"| {side} | " + " | ".join(cells) + " |")
     L += ["", "| quantity (straight strides) | n | median abs | worst abs | bias |", "|---|---|---|---|---|"]
     for key, unit in (("stride_length_err_pct", "%"), ("step_width_err_mm", "mm")):
         e = res[key]

@@ -9,10 +9,14 @@ with default :class:`~lowerlimb.gait.GaitParams`, and are scored against:
     sacrum's 2 Hz low-passed horizontal velocity), toe-off where the toe marker (L/RTOE) is
     furthest behind; an event is *straight* when the sacrum moves faster than 0.3 m/s within
     25 deg of the heading of the first or last quarter of the authors' walking window
-    (frames 1120-2074), else it is in the *turn*. Each marker event is matched to the
-    nearest IMU event of its side and type within 0.2 s. As a second, physical reference,
-    the heel-marker "heel stop": the first frame after the Zeni contact at which the heel
-    marker's horizontal speed falls below 0.3 m/s (reported, not a goal);
+    (frames 1120-2074) and the footprint that the event ends (toe-off) or begins (initial
+    contact) points within 25 deg of that foot's footprints in the same quarter, else it is
+    in the *turn* (the footprint test catches the pivot step of a turn: the pelvis has
+    already turned, the foot still stands where it was put down at 80 deg). Each marker
+    event is matched to the nearest IMU event of its side and type within 0.2 s. As a
+    second, physical reference, the heel-marker "heel stop": the first frame after the Zeni
+    contact at which the heel marker's horizontal speed falls below 0.3 m/s (reported, not
+    a goal);
 (b) foot-stationary periods against the per-frame flags of step-detect/ (walking window);
 (c) stride length, step length, step width, cadence and speed against the Vicon ankle
     centres (LAJC/RAJC, mm, lab z up) at the marker initial contacts, same definitions as
@@ -79,6 +83,35 @@ def sacrum_walk(vicon: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         d /= np.linalg.norm(d)
         straight |= (u @ d > np.cos(np.deg2rad(25.0))) & (speed > 0.3)
     return sac, u, straight
+
+
+def footprint_straight(vicon: dict, side: str, frames: np.ndarray, after: bool) -> np.ndarray:
+    """Whether each event's footprint (bool per frame of ``frames``) points as in a straight pass.
+
+    The footprint is the foot standing still (heel marker slower than 0.1 m/s): the last
+    still frame within 0.8 s before a toe-off (``after=False``), the first within 0.8 s
+    after an initial contact (``after=True``); its heading is the heel-to-toe marker
+    direction. Each pass's reference is the median footprint heading over the first or
+    last quarter of the walking window; a footprint is straight within 25 deg of either.
+    """
+    s = side[0].upper()
+    d = vicon[f"{s}TOE"][:, :2] - vicon[f"{s}HEE"][:, :2]
+    h = np.arctan2(d[:, 1], d[:, 0])
+    still = np.linalg.norm(np.gradient(vicon[f"{s}HEE"][:, :2] / 1000.0, axis=0) * RATE, axis=1) < 0.1
+    q = (WALK[1] - WALK[0]) // 4
+    refs = []
+    for lo, hi in ((WALK[0], WALK[0] + q), (WALK[1] - q, WALK[1])):
+        hh = h[lo:hi][still[lo:hi]]
+        refs.append(np.angle(np.median(np.cos(hh)) + 1j * np.median(np.sin(hh))))
+    win = int(0.8 * RATE)
+    out = np.zeros(len(frames), dtype=bool)
+    for k, f in enumerate(frames):
+        idx = np.flatnonzero(still[f : f + win]) + f if after else np.flatnonzero(still[max(f - win, 0) : f])
+        if not idx.size:
+            continue
+        fp = idx[0] if after else idx[-1] + max(f - win, 0)
+        out[k] = any(np.cos(h[fp] - r) > np.cos(np.deg2rad(25.0)) for r in refs)
+    return out
 
 
 def zeni_events(vicon: dict, sac: np.ndarray, u: np.ndarray, side: str) -> dict[str, np.ndarray]:
@@ -258,13 +291,14 @@ def run(data: Path) -> dict:
         est = {"initial_contact": se.initial_contact_s, "toe_off": se.toe_off_s}
         for name in ("initial_contact", "toe_off"):
             fr = ref[side][name]
+            along = straight[fr] & footprint_straight(vicon, side, fr, after=name == "initial_contact")
             err = match(fr / RATE, est[name])
             res["events"][f"{side}_{name}"] = {
-                "straight": stats_ms(err[straight[fr]]),
-                "turn": stats_ms(err[~straight[fr]]),
+                "straight": stats_ms(err[along]),
+                "turn": stats_ms(err[~along]),
                 "errors_ms": [None if np.isnan(e) else round(1000 * e, 1) for e in err],
                 "marker_frames": fr.tolist(),
-                "straight_flags": straight[fr].tolist(),
+                "straight_flags": along.tolist(),
             }
         hs = heel_stop(vicon, side, ref[side]["initial_contact"])
         ok = hs >= 0

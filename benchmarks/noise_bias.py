@@ -5,10 +5,13 @@ Each simulated walk (``simulate_bilateral``, 60 s) is re-measured with one noise
 noise is drawn after it) and each leg is calibrated (``calibrate_leg``) with
 
 - ``before``: each sensor filtered at its own adaptive cut-off, plain eq. 7 cost
-  (``shared_joint_cutoff=False, noise_correction=False``);
+  (``shared_joint_cutoff=False, noise_correction=False``), every sample fitted;
 - ``shared``: one cut-off per joint (:mod:`lowerlimb.calibration.joint_cutoff`);
-- ``default``: shared cut-off and the errors-in-variables correction
-  (:mod:`lowerlimb.calibration.noise_correction`).
+- ``corrected``: shared cut-off and the errors-in-variables correction
+  (:mod:`lowerlimb.calibration.noise_correction`);
+- ``default``: also the samples near impacts left out of the ankle fit
+  (:mod:`lowerlimb.calibration.impact_window`);
+- ``impacts hip too``: the same for the hip fit (``impact_joints=("hip", "ankle")``).
 
 Errors against the simulator's truth, mm; ``spread`` is the norm of the reported standard
 deviations of the centre; ``fc`` the pelvis and thigh cut-offs the hip used, Hz.
@@ -45,9 +48,11 @@ NOISES = {
     "gyro bias only": ImuNoise(0.0, 0.0, _DEFAULT.gyr_bias_rps, 0.0),
 }
 OPTIONS = {
-    "before": CalibrationOptions(shared_joint_cutoff=False, noise_correction=False),
-    "shared": CalibrationOptions(noise_correction=False),
+    "before": CalibrationOptions(shared_joint_cutoff=False, noise_correction=False, impact_exclusion=False),
+    "shared": CalibrationOptions(noise_correction=False, impact_exclusion=False),
+    "corrected": CalibrationOptions(impact_exclusion=False),
     "default": CalibrationOptions(),
+    "impacts hip too": CalibrationOptions(impact_joints=("hip", "ankle")),
 }
 #: (label, joint, key) of the scored centres.
 CENTRES = (

@@ -35,14 +35,22 @@ class InputError(LowerLimbError, ValueError):
 class MissingColumnError(InputError):
     """A required column is absent from a trial file."""
 
-    def __init__(self, column: str, available: Sequence[str], path: str = "") -> None:
+    def __init__(
+        self, column: str, available: Sequence[str], path: str = "", *, two_legs: bool = False
+    ) -> None:
         self.column = column
         self.available = list(available)
         self.path = path
+        self.two_legs = two_legs
         where = f" in {path}" if path else ""
+        sensors = (
+            "pelvis and left_/right_ thigh, shank, foot (two legs)"
+            if two_legs
+            else "pelvis, thigh, shank, foot"
+        )
         super().__init__(
             f"missing column '{column}'{where}; a trial needs time and "
-            f"<sensor>_acc_x..z, <sensor>_gyr_x..z for pelvis, thigh, shank, foot "
+            f"<sensor>_acc_x..z, <sensor>_gyr_x..z for {sensors} "
             f"(see docs/formats.md, trial CSV)"
         )
 

@@ -26,6 +26,7 @@ from .gait import GaitEvents, write_events_csv, write_stationary_csv
 from .io.atomic import populate_directory
 from .io.bilateral_tables import write_bilateral_tables
 from .io.bilateral_trial import BilateralTrial
+from .io.bounds import INPUT_BOUNDS
 from .io.result_files import OUTPUT_FILES, check_outputs
 from .outputs import CalibrateOptions, _print_warnings, announce, check_options, residual_lines
 
@@ -227,6 +228,7 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
             )
     files = check_outputs(options.outputs)
     trial = BilateralTrial.from_csv(options.trial)
+    trial.check_motion(INPUT_BOUNDS.min_motion_gyro_std_rps)
     check_method(options.method)
     announce(options, trial.n_samples, trial.rate_hz, trial.duration_s, "two legs")
     with warnings.catch_warnings(record=True) as caught:

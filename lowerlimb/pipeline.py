@@ -27,7 +27,7 @@ import numpy as np
 
 from .calibration import LegCalibration, calibrate_leg
 from .calibration.options import CalibrationOptions
-from .calibration.plausibility import check_side
+from .calibration.plausibility import check_side, pelvis_turn_side_cue
 from .conventions import SENSORS, FloatArray, quat_from_matrix
 from .errors import InputError
 from .io.trial import ImuTrial
@@ -182,7 +182,7 @@ def calibrate_joints(
     return replace(
         previous,
         runtime_s=0.0,
-        gyro_bias={s: gyro_bias(trial.gyr[s], n_still) for s in SENSORS},
+        gyro_bias={s: gyro_bias(trial.gyr[s], n_still, still.quiet) for s in SENSORS},
         still_s=n_still / trial.rate_hz,
     )
 
@@ -339,6 +339,13 @@ def process_trial(
             trial.side,
             g.joint_origins["hip"][:3, 3] - g.sensor_placements["pelvis"][:3, 3],
             hip_std_m=hip_ex.weakest_std if hip_ex is not None else 0.0,
+            pelvis_turn=pelvis_turn_side_cue(
+                gyr["pelvis"],
+                gyr["thigh"],
+                calib.knee.axis_in_parent_sensor,
+                trial.acc["pelvis"][reference].mean(axis=0),
+                trial.rate_hz,
+            ),
         )
     return TrialResult(
         trial,

@@ -24,17 +24,20 @@ period is the run of still samples from the first sample, shortened by 0.1 s
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
-from numpy.typing import ArrayLike
-from scipy.ndimage import uniform_filter1d
+from numpy.typing import ArrayLike, NDArray
+from scipy.ndimage import maximum_filter1d, uniform_filter1d
 
 from lowerlimb.conventions import FloatArray
+
+BoolArray = NDArray[np.bool_]
 
 __all__ = [
     "STILL_ACC_STD_MPS2",
     "STILL_GYRO_RPS",
+    "SUSTAINED_MOTION_S",
     "StillPeriod",
     "detect_still_period",
     "gyro_bias",
@@ -45,6 +48,9 @@ __all__ = [
 STILL_GYRO_RPS = 0.1
 #: Moving standard deviation of the accelerometer norm below which a sample is still, m/s².
 STILL_ACC_STD_MPS2 = 0.2
+#: Motion lasting longer than this ends the standing start (a step, the walk), s; briefer
+#: motion (a weight shift, a glance) only drops its own samples from the bias window.
+SUSTAINED_MOTION_S = 0.5
 _WINDOW_S = 0.1
 _MARGIN_S = 0.1
 
@@ -61,10 +67,13 @@ class StillPeriod:
         n_samples: length of the run of still samples from the first one,
             shortened by 0.1 s (may be ≤ 0 when the start moves).
         rate_hz: sampling rate, Hz.
+        quiet: (M,) bool, the still samples of the whole standing start (the bias window;
+            ``M`` is where sustained motion begins), or ``None``: the first ``n_samples``.
     """
 
     n_samples: int
     rate_hz: float
+    quiet: BoolArray | None = field(default=None, compare=False, repr=False)
 
     def samples(self, min_duration_s: float = 0.5) -> int:
         """``n`` such that samples ``[0, n)`` are still, or 0 when shorter than ``min_duration_s``."""
@@ -93,7 +102,19 @@ def detect_still_period(gyrs: Sequence[ArrayLike], accs: Sequence[ArrayLike], ra
         still &= std < STILL_ACC_STD_MPS2
     moving = np.flatnonzero(~still)
     n_still = int(moving[0]) if moving.size else n_total
-    return StillPeriod(n_still - int(round(_MARGIN_S * rate_hz)), float(rate_hz))
+    margin = int(round(_MARGIN_S * rate_hz))
+    return StillPeriod(n_still - margin, float(rate_hz), _quiet_stand(still, rate_hz, margin))
+
+
+def _quiet_stand(still: BoolArray, rate_hz: float, margin: int) -> BoolArray:
+    """(M,) still samples before the first sustained motion, each ``margin`` from a moving one."""
+    moving = (~still).astype(np.int8)
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], moving, [0]))))
+    starts, ends = edges[::2], edges[1::2]
+    long_runs = np.flatnonzero(ends - starts > SUSTAINED_MOTION_S * rate_hz)
+    end = int(starts[long_runs[0]]) if long_runs.size else len(still)
+    near_motion = maximum_filter1d(moving, 2 * margin + 1, mode="nearest") > 0 if margin > 0 else ~still
+    return np.asarray(~near_motion[:end], dtype=bool)
 
 
 def initial_still_samples(
@@ -120,9 +141,18 @@ def initial_still_samples(
     return detect_still_period(gyrs, accs, rate_hz).samples(min_duration_s)
 
 
-def gyro_bias(gyr: ArrayLike, n_still: int) -> FloatArray:
-    """Mean gyro reading over the first ``n_still`` samples, (3,) rad/s (zeros if ``n_still`` is 0)."""
+def gyro_bias(gyr: ArrayLike, n_still: int, quiet: BoolArray | None = None) -> FloatArray:
+    """Mean gyro reading over the still start, (3,) rad/s (zeros if ``n_still`` is 0).
+
+    Args:
+        gyr: (N, 3) gyro signal, rad/s.
+        n_still: still samples at the start (0: no still start, no bias).
+        quiet: the quiet stand (:attr:`StillPeriod.quiet`); when it holds at least
+            ``n_still`` samples the mean is taken over them, else over the first ``n_still``.
+    """
     g = np.asarray(gyr, dtype=float)
     if n_still <= 0:
         return np.zeros(3)
+    if quiet is not None and int(np.count_nonzero(quiet)) >= n_still:
+        return np.asarray(g[: len(quiet)][quiet].mean(axis=0), dtype=float)
     return np.asarray(g[:n_still].mean(axis=0), dtype=float)

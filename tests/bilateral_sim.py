@@ -1,7 +1,8 @@
 """A two-leg trial from two simulated legs that share one pelvis (import as ``bilateral_sim``).
 
 The simulator models one leg. Two runs with the same seed and motion draw the same
-pelvis motion (the walk's pelvis path does not depend on the leg); given the same
+pelvis motion (the walk's pelvis path does not depend on the leg, and the right leg's
+run is asked not to mirror it: ``mirror_pelvis=False``); given the same
 pelvis sensor placement (``geometry=``) the two pelvis IMUs are then identical, noise
 included, and the thigh/shank/foot IMUs of the two runs are the two legs of one body.
 Both legs move in phase (the simulator has one leg's motion), which the calibration
@@ -41,7 +42,9 @@ def simulate_two_legs(seed: int = 3, duration_s: float = 30.0, motion: str = "wa
         g.sensor_placements = random_placements(g, rng)
         geo[side] = g
     geo["right"].sensor_placements["pelvis"] = geo["left"].sensor_placements["pelvis"].copy()
-    sims = {s: simulate(motion, duration_s, seed, side=s, geometry=geo[s]) for s in SIDES}
+    sims = {
+        s: simulate(motion, duration_s, seed, side=s, geometry=geo[s], mirror_pelvis=False) for s in SIDES
+    }
     trial = BilateralTrial.from_legs(sims["left"].trial, sims["right"].trial)
     Rp = quat_to_matrix(sims["left"].quat_wxyz["pelvis"])
     d = sims["right"].sensor_pos_m["foot"] - sims["left"].sensor_pos_m["foot"]

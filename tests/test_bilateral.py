@@ -103,10 +103,35 @@ def test_a_missing_two_leg_column_is_named(tmp_path: Path):
     k = header.index("right_foot_acc_z")
     cut = [",".join(c for i, c in enumerate(line.split(",")) if i != k) for line in lines]
     (tmp_path / "cut.csv").write_text("\n".join(cut) + "\n")
-    with pytest.raises(MissingColumnError, match="missing column 'right_foot_acc_z'"):
+    with pytest.raises(MissingColumnError, match="missing column 'right_foot_acc_z'.*left_/right_ thigh"):
         BilateralTrial.from_csv(tmp_path / "cut.csv")
     r = _cli("calibrate", str(tmp_path / "cut.csv"), "--out", str(tmp_path / "o"))
     assert r.returncode == 2 and "right_foot_acc_z" in r.stderr and "Traceback" not in r.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_leg_copied_onto_the_other_is_refused(tmp_path: Path):
+    def copy_left(acc, gyr):
+        for s in ("thigh", "shank", "foot"):
+            acc[f"right_{s}"], gyr[f"right_{s}"] = acc[f"left_{s}"].copy(), gyr[f"left_{s}"].copy()
+
+    path = _write_variant(tmp_path, copy_left)
+    with pytest.raises(InputError, match="left_thigh and right_thigh columns hold identical data"):
+        BilateralTrial.from_csv(path)
+    r = _cli("calibrate", str(path), "--out", str(tmp_path / "o"))
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert "identical data" in r.stderr and not (tmp_path / "o").exists()
+
+
+def test_a_leg_without_motion_is_named(tmp_path: Path):
+    def still_right(acc, gyr):
+        for s in ("thigh", "shank", "foot"):
+            acc[f"right_{s}"][:] = acc[f"right_{s}"][0]
+            gyr[f"right_{s}"][:] = gyr[f"right_{s}"][0]
+
+    r = _cli("calibrate", str(_write_variant(tmp_path, still_right)), "--out", str(tmp_path / "o"))
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert "no motion" in r.stderr and "right_thigh" in r.stderr and "--calibration" not in r.stderr
     assert not (tmp_path / "o").exists()
 
 

@@ -10,9 +10,10 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+import pytest
 from bilateral_sim import simulate_two_legs
 
-from lowerlimb.bilateral.pelvis import joint_hip_centers, pelvis_frame, shared_pelvis
+from lowerlimb.bilateral.pelvis import OppositeKneesError, joint_hip_centers, pelvis_frame, shared_pelvis
 from lowerlimb.bilateral.process import process_bilateral_trial
 from lowerlimb.calibration import LegCalibration
 from lowerlimb.conventions import SIDES
@@ -83,6 +84,20 @@ def test_shared_frame_cancels_mirrored_knee_axis_errors():
     assert _deg(sp.R_sensor_pelvis[:, 1], R_TRUE[:, 1]) < 1e-6
     assert 0.0 < sp.hip_line_weight < 1.0
     assert sp.to_dict()["hip_spacing_m"] == sp.hips.spacing_m
+
+
+def test_opposite_knee_axes_are_refused_with_their_angle():
+    # a mirrored leg: its "right" knee axis points left; the mean of the two axes vanishes
+    z = R_TRUE @ np.array([0.0, 0.0, 1.0])
+    obs = {s: R_TRUE @ HIPS[s] for s in SIDES}
+    std = {s: np.full(3, 0.01) for s in SIDES}
+    up = R_TRUE @ np.array([0.0, 9.81, 0.0])
+    with pytest.raises(OppositeKneesError, match="point 180° apart") as e:
+        shared_pelvis(obs, std, {"left": z, "right": -z}, up, height_m=1.75)
+    assert e.value.angle_deg == pytest.approx(180.0)
+    tilted = R_TRUE @ _rot("y", 100.0) @ np.array([0.0, 0.0, 1.0])  # 100° apart: still a pelvis
+    sp = shared_pelvis(obs, std, {"left": z, "right": tilted}, up, height_m=1.75)
+    assert np.all(np.isfinite(sp.R_sensor_pelvis))
 
 
 def test_two_simulated_legs_share_the_hips_and_keep_zero_at_standing():

@@ -10,8 +10,10 @@ from lowerlimb.calibration.leg import calibrate_leg
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.calibration.plausibility import (
     SensorOrderError,
+    SideEvidenceWarning,
     WrongSideError,
     check_side,
+    pelvis_turn_side_cue,
 )
 from lowerlimb.errors import InputError
 
@@ -64,3 +66,26 @@ def test_side_from_the_hip_offset(side, lateral, refused):
         assert f"--side {other}" in str(e.value) and e.value.lateral_m == pytest.approx(lateral)
     else:
         check_side(side, v)
+
+
+@pytest.mark.parametrize(("cue", "outcome"), [(-0.3, "warned"), (0.3, "refused"), (-0.05, "refused")])
+def test_a_confirming_pelvis_turn_outweighs_a_contrary_hip(cue, outcome):
+    hip_on_the_right = np.array([0.15, -0.05, 0.07])  # given: left
+    if outcome == "warned":
+        with pytest.warns(SideEvidenceWarning, match="kept left"):
+            check_side("left", hip_on_the_right, pelvis_turn=cue)
+    else:  # contradicting or too weak a cue leaves the hip's verdict
+        with pytest.raises(WrongSideError):
+            check_side("left", hip_on_the_right, pelvis_turn=cue)
+
+
+@pytest.mark.parametrize("side", ["left", "right"])
+def test_the_pelvis_turns_with_the_simulated_leg_that_swings(side):
+    sim = cached_simulation("walk", 30.0, 7, side=side)
+    t, knee = sim.trial, np.asarray(sim.truth["joints"]["knee"]["axis_in_parent_sensor"])
+    up = t.acc["pelvis"][:100].mean(axis=0)
+    cue = pelvis_turn_side_cue(t.gyr["pelvis"], t.gyr["thigh"], knee, up, t.rate_hz)
+    assert cue < -0.15 if side == "left" else cue > 0.15, cue
+    if side == "right":  # the same leg with the left leg's (unmirrored) pelvis reads as a left leg
+        t2 = cached_simulation("walk", 30.0, 7, side=side, mirror_pelvis=False).trial
+        assert pelvis_turn_side_cue(t2.gyr["pelvis"], t2.gyr["thigh"], knee, up, t.rate_hz) < -0.15

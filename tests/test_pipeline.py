@@ -76,7 +76,8 @@ def test_calibration_angles_and_positions_stay_near_what_the_code_achieves(calib
     assert err["knee"]["axis_deg"] < 0.12, err  # measured 0.050
     assert err["knee"]["parent_line_mm"] < 2.0 and err["knee"]["child_line_mm"] < 0.4, err  # 0.69, 0.14
     assert err["hip"]["parent_mm"] < 15.0 and err["hip"]["child_mm"] < 6.0, err  # 9.2, 2.8
-    assert err["ankle"]["parent_mm"] < 4.0 and err["ankle"]["child_mm"] < 1.2, err  # 1.7, 0.41
+    # ankle in the shank: 1.7 mm before the right leg's pelvis was mirrored (a different walk)
+    assert err["ankle"]["parent_mm"] < 10.0 and err["ankle"]["child_mm"] < 1.2, err  # 4.8, 0.59
     angles = np.loadtxt(out / "angles.csv", delimiter=",", skiprows=1)
     rmse_deg = np.rad2deg(np.sqrt(np.mean((np.deg2rad(angles[:, 1:]) - sim.angles_rad) ** 2, axis=0)))
     assert rmse_deg.max() < 1.3, rmse_deg  # 0.65

@@ -38,7 +38,7 @@ def test_robust_fit_ignores_the_simulated_contacts_at_the_ankle():
     truth = np.asarray(sim.truth["legs"]["left"]["joints"]["ankle"]["center_in_parent_sensor"])
     errs = {}
     for robust in (False, True):
-        opts = CalibrationOptions(robust=robust, center_std_tol_m=np.inf)
+        opts = CalibrationOptions(robust=robust, impact_exclusion=False, center_std_tol_m=np.inf)
         cal = calibrate_leg(sim.trial.leg("left"), options=opts)
         errs[robust] = float(np.linalg.norm(cal.ankle.center_in_parent_sensor - truth))
     assert errs[True] < 0.015

@@ -42,3 +42,25 @@ def test_process_trial_detects_the_still_period_once(monkeypatch):
     result = process_trial(sim.trial, method="gn")
     assert len(calls) == 1
     assert np.isfinite(result.angles_rad).all()
+
+
+def test_the_bias_window_spans_the_whole_quiet_stand():
+    # 8 s stand, a 0.2 s weight shift at 2 s, a slow settling turn in the first 1.5 s, then walking
+    rate, n = 100.0, 1200
+    rng = np.random.default_rng(3)
+    bias = np.array([0.01, -0.02, 0.015])
+    gyrs = [bias + rng.normal(0.0, 0.002, (n, 3)) for _ in range(2)]
+    accs = [np.array([0.0, 0.0, 9.81]) + rng.normal(0.0, 0.01, (n, 3)) for _ in range(2)]
+    gyrs[0][:150, 2] += 0.03  # settling: below the still threshold, a real rotation
+    gyrs[1][200:220, 0] += 0.4  # weight shift: ends the first still run
+    t = np.arange(n) / rate
+    for g in gyrs:
+        g[800:, 0] += 2.0 * np.sin(2 * np.pi * t[800:])  # the walk: sustained motion
+    found = stillness.detect_still_period(gyrs, accs, rate)
+    assert 180 <= found.n_samples <= 200  # the first still run ends at the weight shift
+    assert found.quiet is not None and 790 <= len(found.quiet) <= 800
+    assert not found.quiet[195:225].any() and found.quiet[300:780].all()
+    first_run = stillness.gyro_bias(gyrs[0], found.n_samples)
+    whole = stillness.gyro_bias(gyrs[0], found.n_samples, found.quiet)
+    assert abs(first_run[2] - bias[2]) > 0.02  # the settling turn, taken for bias
+    assert np.max(np.abs(whole - bias)) < 0.007  # diluted over the stand

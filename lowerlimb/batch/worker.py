@@ -25,6 +25,7 @@ from lowerlimb.bilateral import BilateralResult, process_bilateral_trial
 from lowerlimb.conventions import ANGLE_COLUMNS
 from lowerlimb.errors import InputError
 from lowerlimb.io.bilateral_trial import BilateralTrial, read_header, trial_layout
+from lowerlimb.io.bounds import INPUT_BOUNDS
 from lowerlimb.io.trial import ImuTrial
 from lowerlimb.outputs import read_calibration, write_outputs
 from lowerlimb.outputs_bilateral import write_bilateral_outputs
@@ -99,8 +100,10 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
                 "calibration reuse is a single-leg option; a two-leg trial is calibrated on itself "
                 "(clear the manifest's calibration cell for it)"
             )
+        seven = BilateralTrial.from_csv(trial.path)
+        seven.check_motion(INPUT_BOUNDS.min_motion_gyro_std_rps)
         both = process_bilateral_trial(
-            BilateralTrial.from_csv(trial.path),
+            seven,
             method=p.method,
             filter_name=p.filter_name,
             height_m=trial.height_m,
@@ -110,6 +113,8 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
         return bilateral_key_results(both), lambda d: _write_two_legs(both, d, p.outputs)
     imu = ImuTrial.from_csv(trial.path, side=trial.side)
     previous = None if trial.calibration is None else read_calibration(trial.calibration)
+    if previous is None:
+        imu.check_motion(INPUT_BOUNDS.min_motion_gyro_std_rps)
     result = process_trial(
         imu,
         method=p.method,

@@ -41,9 +41,18 @@ from typing import Any
 import numpy as np
 
 from ..conventions import SIDES, FloatArray
+from ..errors import InputError
 from ..model.anthropometry import hip_spacing_m
 
-__all__ = ["JointHips", "PelvisParams", "SharedPelvis", "joint_hip_centers", "pelvis_frame", "shared_pelvis"]
+__all__ = [
+    "JointHips",
+    "OppositeKneesError",
+    "PelvisParams",
+    "SharedPelvis",
+    "joint_hip_centers",
+    "pelvis_frame",
+    "shared_pelvis",
+]
 
 
 @dataclass(frozen=True)
@@ -59,12 +68,28 @@ class PelvisParams:
         spacing_sd_m: Spread of the adult hip spacing about de Leva's stature-scaled mean, m.
         knee_heading_sd_deg: Spread of one knee axis's heading about the pelvis's right axis at
             standing, deg (toe-out and the knee-axis fit error).
+        max_knee_axes_angle_deg: Largest angle between the two knee axes (both pointing right)
+            seen from the pelvis at standing, deg; beyond it one leg's sensors are mirrored or
+            belong to the other leg and the pelvis has no right direction.
     """
 
     model_std_m: float = 0.03
     symmetry_sd_m: float = 0.01
     spacing_sd_m: float = 0.02
     knee_heading_sd_deg: float = 15.0
+    max_knee_axes_angle_deg: float = 135.0
+
+
+class OppositeKneesError(InputError):
+    """The two knee axes (both meant to point right) point apart; carries their angle (deg)."""
+
+    def __init__(self, angle_deg: float) -> None:
+        self.angle_deg = angle_deg
+        super().__init__(
+            f"the two knee axes point {angle_deg:.0f}° apart seen from the pelvis, but both should point "
+            f"to the subject's right: one leg's sensors look mirrored or belong to the other leg, or one "
+            f"knee barely bends; check the left_* and right_* columns and each sensor's axes in the export"
+        )
 
 
 @dataclass(frozen=True)
@@ -236,7 +261,11 @@ def shared_pelvis(
     up = _unit(up_in_pelvis)
     c = {s: np.asarray(center_m[s], dtype=float) for s in SIDES}
     s_rep = {s: _finite_or_zero(std_m[s]) for s in SIDES}
-    knees = _horizontal(_unit(knee_axis_in_pelvis["left"]) + _unit(knee_axis_in_pelvis["right"]), up)
+    zl, zr = _unit(knee_axis_in_pelvis["left"]), _unit(knee_axis_in_pelvis["right"])
+    apart = float(np.degrees(np.arccos(np.clip(zl @ zr, -1.0, 1.0))))
+    if not apart <= p.max_knee_axes_angle_deg:
+        raise OppositeKneesError(apart)
+    knees = _horizontal(zl + zr, up)
     line = c["right"] - c["left"]
     hline = _horizontal(line, up)
     # heading variance of the hip line: the centres' errors across it, over its horizontal length
@@ -253,7 +282,6 @@ def shared_pelvis(
     R = pelvis_frame(up, right)
     expected = hip_spacing_m(height_m)
     hips = joint_hip_centers(c, s_rep, R, expected, p)
-    zl, zr = _unit(knee_axis_in_pelvis["left"]), _unit(knee_axis_in_pelvis["right"])
     return SharedPelvis(
         R_sensor_pelvis=R,
         hips=hips,

@@ -144,6 +144,7 @@ def prepare_signals(
     still: StillPeriod | None = None,
     n_still: int | None = None,
     set_hz: Mapping[str, float | None] | None = None,
+    bias: Mapping[str, FloatArray] | None = None,
 ) -> PreparedSignals:
     """Remove the gyro bias of a still start, low-pass (adaptively) and differentiate the gyros.
 
@@ -158,16 +159,23 @@ def prepare_signals(
         set_hz: ``{sensor: Hz or None}`` cut-offs decided by the caller (a joint's
             cut-offs, :func:`~lowerlimb.calibration.joint_cutoff.joint_cutoffs_hz`;
             ``None``: unfiltered); they replace those sensors' adaptive cut-offs.
+        bias: ``{sensor: (3,)}`` gyro biases already measured (a sub-set of sensors of
+            prepared signals: the same bias), rad/s; else measured here over the still start.
 
     Returns:
         The prepared signals.
     """
+    quiet = None
     if n_still is None:
         n_still = 0
         if options.remove_gyro_bias:
             found = still or detect_still_period(list(gyr.values()), list(acc.values()), rate_hz)
             n_still = found.samples(options.still_min_s)
-    bias = {k: gyro_bias(g, n_still) for k, g in gyr.items()}
+            quiet = found.quiet
+    if bias is None:
+        bias = {k: gyro_bias(g, n_still, quiet) for k, g in gyr.items()}
+    else:
+        bias = {k: np.asarray(bias[k], dtype=float) for k in gyr}
     gyr_c = {k: g - bias[k] for k, g in gyr.items()}
     noise: dict[str, float | None] = {
         k: float(np.mean(np.std(g[:n_still], axis=0))) if n_still >= 10 else None for k, g in gyr_c.items()
@@ -270,6 +278,7 @@ def joint_signals(
         options,
         n_still=sig.n_still,
         set_hz={parent: want[0], child: want[1]},
+        bias={k: sig.gyro_bias[k] for k in (parent, child)},
     )
     return pair_data(sub, parent, child)
 

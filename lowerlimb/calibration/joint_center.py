@@ -20,6 +20,8 @@ Pipeline (choices the paper leaves open are written here):
    ``casadi`` and ``gn`` start from x = 0 (the sensors themselves; the cost
    is well-behaved there in practice), inside the box ``|c_i| ≤ center_bound_m``;
    the swarms search that box on at most ``swarm_samples`` samples;
+   samples near impacts (jerk peaks) are left out first when the caller says so
+   (:mod:`~lowerlimb.calibration.impact_window`; a leg's ankle by default);
 4. diagnostics from the Jacobian at the solution
    (:mod:`~lowerlimb.calibration.excitation`).
 """
@@ -39,6 +41,7 @@ from lowerlimb.calibration._rotation import low_rotation_messages
 from lowerlimb.calibration._solve import LsqProblem, solve_global, solve_local, subsample_step
 from lowerlimb.calibration.excitation import correlation_time, issue_warnings, jacobian_report
 from lowerlimb.calibration.geometry import basis_with_first_axis
+from lowerlimb.calibration.impact_window import impact_keep_mask
 from lowerlimb.calibration.noise_correction import corrected_gauss_newton
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import SphericalJointCalibration
@@ -257,6 +260,7 @@ def fit_spherical(
     child_sensor: str = "child",
     gauge_axes: tuple[FloatArray, FloatArray] | None = None,
     prior: CenterPrior | None = None,
+    keep: ArrayLike | None = None,
 ) -> SphericalJointCalibration:
     """Solve eq. 7 on prepared signals and attach the excitation diagnostics.
 
@@ -274,6 +278,8 @@ def fit_spherical(
         prior: a weak Gaussian prior on one of the two centres (not with
             ``gauge_axes``): the data-only solution is refined by the MAP problem
             (:func:`_refine`). The excitation report stays the data's own.
+        keep: (N,) booleans, the samples to fit (``None``: all); the others are left
+            out, e.g. near impacts (:func:`~lowerlimb.calibration.impact_window.impact_keep_mask`).
 
     Returns:
         The joint result; warnings are issued and recorded.
@@ -282,6 +288,11 @@ def fit_spherical(
         SolverError: the solver failed.
     """
     t0 = time.perf_counter()
+    excluded = 0.0
+    if keep is not None:
+        n_all = data.n_samples
+        data = data.select(keep)
+        excluded = 1.0 - data.n_samples / max(n_all, 1)
     if gauge_axes is None:
         problem = _spherical_problem(data, options)
         n_par = 6
@@ -363,6 +374,7 @@ def fit_spherical(
         converged=bool(result.converged),
         solve_time_s=time.perf_counter() - t0,
         warnings=messages,
+        impact_excluded_fraction=excluded,
     )
 
 
@@ -380,6 +392,11 @@ def calibrate_spherical_joint(
     child_sensor: str = "child",
 ) -> SphericalJointCalibration:
     """Joint centre of a spherical joint between two IMUs, with diagnostics.
+
+    With ``options.impact_exclusion`` (default) the samples near jerk peaks of
+    either accelerometer are left out
+    (:func:`~lowerlimb.calibration.impact_window.impact_keep_mask`); smooth motion
+    has none.
 
     Args:
         acc_parent: (N, 3) parent accelerometer (specific force), parent sensor frame, m/s².
@@ -406,7 +423,8 @@ def calibrate_spherical_joint(
     """
     opts = options or CalibrationOptions()
     check_method(method)
-    _, data = prepare_pair(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, opts)
+    sig, data = prepare_pair(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, opts)
+    keep = impact_keep_mask((acc_parent, acc_child), sig.rate_hz, opts) if opts.impact_exclusion else None
     return fit_spherical(
         data,
         method=method,
@@ -414,6 +432,7 @@ def calibrate_spherical_joint(
         joint=joint,
         parent_sensor=parent_sensor,
         child_sensor=child_sensor,
+        keep=keep,
     )
 
 

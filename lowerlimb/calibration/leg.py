@@ -33,6 +33,7 @@ from lowerlimb.calibration._prepare import (
     prepare_signals,
 )
 from lowerlimb.calibration.hinge_joint import fit_hinge_joint
+from lowerlimb.calibration.impact_window import impact_keep_mask
 from lowerlimb.calibration.joint_center import fit_spherical
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
@@ -280,17 +281,20 @@ def calibrate_leg(
     hip_prior, ankle_prior = (
         leg_priors(knee, acc, sig.n_still, opts) if opts.anthropometric_prior else (None, None)
     )
-    hip = fit_spherical(
-        hip_data, method=method, options=opts, joint="hip", parent_sensor=p, child_sensor=c, prior=hip_prior
+    hip_keep, ankle_keep = (
+        impact_keep_mask((acc[s], acc[t], acc["foot"]), rate, opts)
+        if opts.impact_exclusion and joint in opts.impact_joints
+        else None
+        for joint, s, t in (("hip", p, c), ("ankle", pa, ca))
     )
-    ankle = fit_spherical(
-        ankle_data,
-        method=method,
-        options=opts,
-        joint="ankle",
-        parent_sensor=pa,
-        child_sensor=ca,
-        prior=ankle_prior,
+    hip, ankle = (
+        fit_spherical(
+            data, method=method, options=opts, joint=joint, parent_sensor=s, child_sensor=t, prior=pr, keep=kp
+        )
+        for joint, data, s, t, pr, kp in (
+            ("hip", hip_data, p, c, hip_prior, hip_keep),
+            ("ankle", ankle_data, pa, ca, ankle_prior, ankle_keep),
+        )
     )
     runtime = time.perf_counter() - t0
     return LegCalibration(

@@ -19,14 +19,29 @@ Two mistakes give plausible-looking numbers and exit 0 unless they are caught:
   offset beyond ``side_min_offset_m`` with the sign of the other side means the
   side is wrong. A pelvis sensor far off the midline defeats the test, hence
   ``check_side=False`` (CLI ``--no-side-check``).
+
+  The hip centre in a sacral sensor is the least determined quantity of walking: soft
+  tissue and impacts move its lateral coordinate by centimetres to decimetres (on the
+  simulator's real-walk artefacts it lay on the wrong side in 4 of 10 one-leg walks,
+  each refused). So the verdict needs a second witness that no joint centre enters:
+  **the pelvis turns with the swinging leg** (Perry & Burnfield 2010: it rotates about
+  ±4° so that the swinging side advances), clockwise seen from above while a left thigh
+  flexes, anticlockwise for a right one. The correlation of the pelvis's rate about the
+  vertical with the thigh's flexion rate (:func:`pelvis_turn_side_cue`) is negative for a
+  left leg and positive for a right one (real walk: −0.26 / +0.30). When it confirms the
+  side given at least ``side_cue_min_corr`` strongly, a contrary hip position gives a
+  :class:`SideEvidenceWarning`, not an error. Motions without a gait (squats) leave it near
+  zero and the hip decides alone.
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 import numpy as np
+from scipy.signal import butter, sosfiltfilt
 
 from lowerlimb.calibration._prepare import PreparedSignals, joint_signals
 from lowerlimb.calibration._solve import subsample_step
@@ -35,7 +50,15 @@ from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError
 
-__all__ = ["PlausibilityParams", "SensorOrderError", "WrongSideError", "check_sensor_order", "check_side"]
+__all__ = [
+    "PlausibilityParams",
+    "SensorOrderError",
+    "SideEvidenceWarning",
+    "WrongSideError",
+    "check_sensor_order",
+    "check_side",
+    "pelvis_turn_side_cue",
+]
 
 
 @dataclass(frozen=True)
@@ -56,6 +79,10 @@ class PlausibilityParams:
         order_check_samples: the swap test fits each pairing on at most this many
             evenly spaced samples (it compares two residual levels; a long trial's
             every sample only makes it slower).
+        side_cue_lowpass_hz: low-pass cut-off of the two rates of the pelvis-turn cue, Hz
+            (the stride's fundamental is ~1 Hz, impacts and wobble lie far above).
+        side_cue_min_corr: least magnitude of the pelvis-turn correlation that counts as
+            a witness for a side (one-leg simulated walks: 0.2–0.3; squats: ~0).
     """
 
     swap_ratio: float = 0.7
@@ -63,6 +90,8 @@ class PlausibilityParams:
     side_max_offset_m: float = 0.2
     side_min_sigmas: float = 2.0
     order_check_samples: int = 1500
+    side_cue_lowpass_hz: float = 3.0
+    side_cue_min_corr: float = 0.15
 
 
 class SensorOrderError(InputError):
@@ -148,12 +177,51 @@ def check_sensor_order(
         raise SensorOrderError("shank", "foot", assumed, swapped, "knee")
 
 
+class SideEvidenceWarning(UserWarning):
+    """The hip centre lies on the other side, but the pelvis's turning confirms the side given."""
+
+
+def pelvis_turn_side_cue(
+    gyr_pelvis: FloatArray,
+    gyr_thigh: FloatArray,
+    knee_axis_in_thigh: FloatArray,
+    up_in_pelvis: FloatArray,
+    rate_hz: float,
+    params: PlausibilityParams | None = None,
+) -> float:
+    """Correlation in [−1, 1] of the pelvis's turning with the thigh's flexion: < 0 left, > 0 right.
+
+    Args:
+        gyr_pelvis: (N, 3) pelvis gyro, pelvis sensor frame, rad/s.
+        gyr_thigh: (N, 3) thigh gyro, thigh sensor frame, rad/s.
+        knee_axis_in_thigh: (3,) the knee axis (pointing right) in the thigh sensor frame.
+        up_in_pelvis: (3,) the upward direction in the pelvis sensor frame (any length).
+        rate_hz: sampling rate, Hz.
+        params: the low-pass cut-off (defaults: :class:`PlausibilityParams`).
+
+    Returns:
+        The correlation; 0 when either rate is constant.
+    """
+    p = params or PlausibilityParams()
+    up = np.asarray(up_in_pelvis, dtype=float)
+    axis = np.asarray(knee_axis_in_thigh, dtype=float)
+    turn = np.asarray(gyr_pelvis, dtype=float) @ (up / np.linalg.norm(up))
+    flex = np.asarray(gyr_thigh, dtype=float) @ (axis / np.linalg.norm(axis))
+    if p.side_cue_lowpass_hz < 0.45 * rate_hz and turn.shape[0] > 30:
+        sos = butter(2, p.side_cue_lowpass_hz, fs=rate_hz, output="sos")
+        turn, flex = sosfiltfilt(sos, turn), sosfiltfilt(sos, flex)
+    if not (np.std(turn) > 0 and np.std(flex) > 0):
+        return 0.0
+    return float(np.corrcoef(turn, flex)[0, 1])
+
+
 def check_side(
     side: str,
     hip_from_pelvis_sensor: FloatArray,
     params: PlausibilityParams | None = None,
     *,
     hip_std_m: float = 0.0,
+    pelvis_turn: float | None = None,
 ) -> None:
     """Refuse a side contradicted by the calibrated hip position (module docstring).
 
@@ -164,9 +232,13 @@ def check_side(
         params: thresholds (defaults: :class:`PlausibilityParams`).
         hip_std_m: standard deviation of the calibrated hip centre along its most poorly
             determined direction, m (0 when unknown).
+        pelvis_turn: the pelvis-turn cue (:func:`pelvis_turn_side_cue`), or ``None``.
 
     Raises:
-        WrongSideError: with the lateral offset.
+        WrongSideError: with the lateral offset, unless the pelvis-turn cue confirms ``side``.
+
+    Warns:
+        SideEvidenceWarning: the hip says the other side, the pelvis-turn cue this one.
     """
     p = params or PlausibilityParams()
     lateral = float(np.asarray(hip_from_pelvis_sensor, dtype=float)[2])
@@ -174,5 +246,19 @@ def check_side(
         return
     if not abs(lateral) >= p.side_min_sigmas * hip_std_m:
         return
-    if (lateral > 0) != (side == "right"):
-        raise WrongSideError(side, lateral)
+    if (lateral > 0) == (side == "right"):
+        return
+    confirmed = pelvis_turn is not None and abs(pelvis_turn) >= p.side_cue_min_corr
+    if confirmed and (pelvis_turn is not None and pelvis_turn > 0) == (side == "right"):
+        where = "right" if lateral > 0 else "left"
+        warnings.warn(
+            SideEvidenceWarning(
+                f"the calibrated hip centre lies {abs(lateral) * 100:.1f} cm to the {where} of the pelvis "
+                f"sensor, as for a {'right' if lateral > 0 else 'left'} leg, but the pelvis turns with this "
+                f"leg's swing as with a {side} leg (correlation {pelvis_turn:+.2f}); kept {side}: the hip "
+                f"centre in the pelvis sensor is unreliable in this trial"
+            ),
+            stacklevel=2,
+        )
+        return
+    raise WrongSideError(side, lateral)

@@ -62,6 +62,9 @@ class SphericalJointCalibration:
         converged: whether the solver's stopping test was met.
         solve_time_s: wall time of the solve, s.
         warnings: excitation warnings (also issued as :class:`ExcitationWarning`).
+        impact_excluded_fraction: fraction of the samples left out of the fit near
+            impacts (0–1; :mod:`~lowerlimb.calibration.impact_window`); the residual
+            and the excitation report are those of the samples used.
     """
 
     joint: str
@@ -77,6 +80,7 @@ class SphericalJointCalibration:
     converged: bool = True
     solve_time_s: float = 0.0
     warnings: list[str] = field(default_factory=list)
+    impact_excluded_fraction: float = 0.0
 
     @property
     def center_std_in_parent_sensor(self) -> FloatArray:
@@ -116,6 +120,7 @@ class SphericalJointCalibration:
             converged=bool(self.converged),
             solve_time_s=float(self.solve_time_s),
             warnings=list(self.warnings),
+            impact_excluded_fraction=float(self.impact_excluded_fraction),
         )
         return d
 
@@ -139,6 +144,7 @@ class SphericalJointCalibration:
             converged=bool(d.get(key_prefix + "converged", d.get("converged", True))),
             solve_time_s=float(d.get(key_prefix + "solve_time_s", d.get("solve_time_s", 0.0))),
             warnings=list(d.get(key_prefix + "warnings", [])),
+            impact_excluded_fraction=float(d.get(key_prefix + "impact_excluded_fraction", 0.0)),
         )
 
 

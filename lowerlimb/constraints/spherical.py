@@ -204,6 +204,21 @@ class SphericalData:
             *self.noise_levels,
         )
 
+    def select(self, keep: ArrayLike) -> SphericalData:
+        """The samples where ``keep`` is true ((N,) booleans), in order; noise levels kept."""
+        k = np.asarray(keep, dtype=bool)
+        if k.shape != (self.n_samples,):
+            raise ShapeError(f"keep must have shape ({self.n_samples},), got {k.shape}")
+        return SphericalData(
+            self.acc_parent[k],
+            self.gyr_parent[k],
+            self.angacc_parent[k],
+            self.acc_child[k],
+            self.gyr_child[k],
+            self.angacc_child[k],
+            *self.noise_levels,
+        )
+
     @property
     def noise_levels(self) -> tuple[float, float, float, float]:
         """The four regressor noise levels, in field order.

@@ -25,7 +25,7 @@ from ..errors import InputError, MissingColumnError, TooShortError
 from ..stillness import StillPeriod, detect_still_period
 from .recording import TWO_LEG_SENSORS
 from .time_axis import TimeAxis
-from .trial import MIN_DURATION_S, ImuTrial, column_names
+from .trial import MIN_DURATION_S, ImuTrial, NoMotionError, check_distinct_sensors, column_names
 
 __all__ = ["LAYOUTS", "BilateralTrial", "read_header", "trial_layout", "with_file_names"]
 
@@ -135,12 +135,27 @@ class BilateralTrial(TimeAxis):
         for name, signals in (("acc", self.acc), ("gyr", self.gyr), ("mag", self.mag or {})):
             for sensor in TWO_LEG_SENSORS if name != "mag" or self.mag else ():
                 if sensor not in signals:
-                    raise MissingColumnError(f"{sensor}_{name}_x", [], self.source)
+                    raise MissingColumnError(f"{sensor}_{name}_x", [], self.source, two_legs=True)
         for side in SIDES:
             try:
                 self.leg(side).validate()
             except InputError as e:
                 raise with_file_names(e, side) from None
+        check_distinct_sensors(self.acc, self.gyr, TWO_LEG_SENSORS)
+
+    def check_motion(self, min_gyro_std_rps: float) -> None:
+        """Refuse a trial in which either leg has no motion to calibrate from (:meth:`ImuTrial.check_motion`).
+
+        Raises:
+            NoMotionError: naming the still sensor as in the file (``right_thigh``); a two-leg
+                trial cannot reuse a calibration, so the message does not offer it.
+        """
+        for side in SIDES:
+            try:
+                self.leg(side).check_motion(min_gyro_std_rps)
+            except NoMotionError as e:
+                sensor = f"{side}_{e.sensor}"
+                raise NoMotionError(sensor, e.gyro_std_rps, e.required_rps, reusable=False) from None
 
     def still_period(self) -> StillPeriod:
         """The still run at the start of the recording, over all seven IMUs."""
@@ -165,7 +180,7 @@ class BilateralTrial(TimeAxis):
                 f"read a single-leg trial with ImuTrial.from_csv"
             )
         if "time" not in header:
-            raise MissingColumnError("time", header, path)
+            raise MissingColumnError("time", header, path, two_legs=True)
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
@@ -184,7 +199,7 @@ class BilateralTrial(TimeAxis):
             names = column_names(sensor, signal)
             for n in names:
                 if n not in col:
-                    raise MissingColumnError(n, header, path)
+                    raise MissingColumnError(n, header, path, two_legs=True)
             return np.ascontiguousarray(raw[:, [col[n] for n in names]])
 
         acc = {s: block(s, "acc") for s in TWO_LEG_SENSORS}

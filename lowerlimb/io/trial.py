@@ -13,6 +13,7 @@ from __future__ import annotations
 import csv
 import os
 import warnings
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -48,17 +49,39 @@ class IdenticalSensorsError(InputError):
         )
 
 
+def check_distinct_sensors(
+    acc: Mapping[str, FloatArray], gyr: Mapping[str, FloatArray], sensors: Sequence[str]
+) -> None:
+    """Refuse two sensors with identical data: one sensor's columns copied into another's.
+
+    Args:
+        acc: ``{sensor: (N, 3)}`` specific force, m/s².
+        gyr: ``{sensor: (N, 3)}`` angular velocity, rad/s.
+        sensors: the names to compare pairwise (the message names the first identical pair).
+
+    Raises:
+        IdenticalSensorsError: two sensors agree to the last bit in both signals.
+    """
+    for i, a in enumerate(sensors):
+        for b in sensors[i + 1 :]:
+            if np.array_equal(gyr[a], gyr[b]) and np.array_equal(acc[a], acc[b]):
+                raise IdenticalSensorsError(a, b)
+
+
 class NoMotionError(InputError):
     """The trial holds no motion to calibrate the joints from; carries the gyro variation (rad/s)."""
 
-    def __init__(self, sensor: str, gyro_std_rps: float, required_rps: float) -> None:
+    def __init__(
+        self, sensor: str, gyro_std_rps: float, required_rps: float, *, reusable: bool = True
+    ) -> None:
         self.sensor = sensor
         self.gyro_std_rps = gyro_std_rps
         self.required_rps = required_rps
+        reuse = ", or reuse an earlier calibration with --calibration" if reusable else ""
         super().__init__(
             f"the trial holds no motion to calibrate from: the {sensor} angular rate varies by "
             f"{gyro_std_rps:.3g} rad/s (at least {required_rps:g} rad/s needed); record a walk or "
-            f"the calibration motions, or reuse an earlier calibration with --calibration"
+            f"the calibration motions{reuse}"
         )
 
 
@@ -175,14 +198,7 @@ class ImuTrial(TimeAxis):
                 )
         if self.duration_s < MIN_DURATION_S:
             raise TooShortError(self.duration_s, MIN_DURATION_S)
-        self._check_distinct_sensors()
-
-    def _check_distinct_sensors(self) -> None:
-        """Refuse two sensors with identical data: one sensor's columns copied into another's."""
-        for i, a in enumerate(SENSORS):
-            for b in SENSORS[i + 1 :]:
-                if np.array_equal(self.gyr[a], self.gyr[b]) and np.array_equal(self.acc[a], self.acc[b]):
-                    raise IdenticalSensorsError(a, b)
+        check_distinct_sensors(self.acc, self.gyr, SENSORS)
 
     def check_motion(self, min_gyro_std_rps: float) -> None:
         """Refuse a trial with no motion to calibrate from (still, or exactly constant).

@@ -123,6 +123,7 @@ def simulate(
     still_s: float = 1.5,
     geometry: LegGeometry | None = None,
     artefacts: Artefacts | None = None,
+    mirror_pelvis: bool | None = None,
 ) -> Simulation:
     """Simulate a four-IMU leg trial with known truth.
 
@@ -147,6 +148,10 @@ def simulate(
             clock and scale errors); ``None`` or :meth:`Artefacts.none` gives
             the rigid signals. Its random draws use their own stream, so the
             placements, motion and noise are those of the rigid simulation.
+        mirror_pelvis: mirror the pelvis's obliquity and rotation (:data:`_MIRRORED_PELVIS`);
+            ``None``: for a right leg, as a real pelvis turns with the leg that swings.
+            ``False`` gives a right leg the left leg's pelvis motion (two runs then share
+            one pelvis, as a test fixture joining two legs needs).
 
     Returns:
         A :class:`Simulation`.
@@ -161,7 +166,8 @@ def simulate(
     rng = np.random.default_rng(seed)
     art = artefacts if artefacts is not None and artefacts.active else None
     sim_model = _sim_model(geometry, side, height_m, mass_kg, rng)
-    traj = _trajectories(sim_model, motion, duration_s, rate_hz, still_s, rng)
+    mirror = side == "right" if mirror_pelvis is None else mirror_pelvis
+    traj = _trajectories(sim_model, motion, duration_s, rate_hz, still_s, rng, mirror)
     sta_dirs = _sta_directions(sta, rng) if sta is not None else None
     sig = _rigid_signals(sim_model, traj, with_alpha=sta is not None or art is not None)
     art_rng = np.random.default_rng([seed, 9] if art is None or art.seed is None else art.seed)
@@ -268,6 +274,14 @@ def _sim_model(
     return LegModel(geometry, root_joint=_root_joint())
 
 
+#: Signs of the pelvis's (tilt, obliquity, rotation) for a right leg: a mirror image in the
+#: sagittal plane keeps rotations about the medio-lateral axis and reverses those about the
+#: anterior and vertical axes. (In a left-leg walk the pelvis turns clockwise seen from above
+#: while that leg swings forward; the right leg's swing turns it the other way, so a pelvis
+#: that was not mirrored told a right leg apart from a left one by nothing but its sensors.)
+_MIRRORED_PELVIS = np.array([1.0, -1.0, -1.0])
+
+
 def _trajectories(
     sim_model: LegModel,
     motion: str,
@@ -275,11 +289,14 @@ def _trajectories(
     rate_hz: float,
     still_s: float,
     rng: np.random.Generator,
+    mirror_pelvis: bool,
 ) -> _Trajectories:
     """The motion sampled at ``rate_hz`` (Hz) over ``duration_s`` (s), after ``still_s`` (s) still.
 
     Derivatives come from a quintic spline; the pelvis is anchored at the ankle when the motion
-    gives no pelvis position.
+    gives no pelvis position. The motions are written for a left leg; ``mirror_pelvis``
+    mirrors the pelvis's obliquity and rotation (:data:`_MIRRORED_PELVIS`) for a right leg,
+    so that the pelvis drops and turns with the instrumented leg's swing as a real pelvis does.
     """
     model = sim_model.model
     n = int(round(duration_s * rate_hz))
@@ -289,6 +306,8 @@ def _trajectories(
     Q = np.zeros((n, model.nq))
     Q[:, 3] = kin.yaw_rad
     Q[:, 4:7] = kin.pelvis_euler_rad
+    if mirror_pelvis:
+        Q[:, 4:7] *= _MIRRORED_PELVIS
     Q[:, _N_ROOT:] = kin.angles_rad
     if kin.pelvis_pos_m is None:
         Q[:, :3] = _anchor_pelvis(sim_model, Q)
