@@ -345,9 +345,12 @@ def _bump(s: FloatArray | float, order: int = 0, k: int = 3) -> FloatArray:
     return np.asarray(6.0 * s * r**k - 6.0 * k * s**2 * r ** (k - 1) + k * (k - 1) * s**3 * r ** (k - 2))
 
 
-def _hermite_derivative(args: tuple, D: float, s: float, order: int, eps: float = 1e-4) -> FloatArray:
-    """First or second derivative in ``s`` of :func:`_hermite5` (``args``: its six ends) at ``s``."""
-    y = _hermite5(*args, D, np.array([s - eps, s, s + eps]))
+def _hermite_derivative(
+    ends: tuple[FloatArray, ...], D: float, s: float, order: int, eps: float = 1e-4
+) -> FloatArray:
+    """First or second derivative in ``s`` of :func:`_hermite5` (``ends``: its six ends) at ``s``."""
+    y0, v0, a0, y1, v1, a1 = ends
+    y = _hermite5(y0, v0, a0, y1, v1, a1, D, np.array([s - eps, s, s + eps]))
     if order == 1:
         return np.asarray((y[2] - y[0]) / (2 * eps))
     return np.asarray((y[2] - 2 * y[1] + y[0]) / eps**2)
