@@ -22,8 +22,9 @@ from lowerlimb.simulation import Artefacts, BilateralSimulation, ImuNoise, simul
 from lowerlimb.simulation.sensor_errors import resample_at
 
 #: sha256 of the rigid walk (seed 5, 8 s) rounded to 1e-6, recorded before the profile existed
-#: (re-recorded when the foot got its toe segment and push-off: the walk itself changed).
-RIGID_WALK_SHA256 = "f4a4fe829209882bf72cd55c0e5d47c22b8ba448ff0fc3f011c67778cf8a87d2"
+#: (re-recorded when the foot got its toe segment and push-off, and again when the swing got its
+#: mid-swing velocity peak and lift: the walk itself changed).
+RIGID_WALK_SHA256 = "5ada99428c60ac8eca46cef61dfda4361127d4da168d0eb3811a9ae801b95694"
 SEED, DURATION_S = 5, 10.0
 #: Impact window after each initial contact and mid-swing window length, s.
 WINDOW_S = 0.15
