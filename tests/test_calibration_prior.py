@@ -68,7 +68,7 @@ def test_prior_is_recorded_and_can_be_switched_off(walk_leg) -> None:
         warnings.simplefilter("ignore")
         on = calibrate_leg(trial)
         off = calibrate_leg(trial, options=CalibrationOptions(anthropometric_prior=False))
-    assert set(on.to_dict()["anthropometric_prior"]) == {"hip", "ankle"}
+    assert set(on.to_dict()["anthropometric_prior"]) == {"hip", "ankle", "knee_line"}
     assert off.to_dict()["anthropometric_prior"] == {}
     # the knee is not touched by the prior
     assert np.allclose(on.knee.axis_in_parent_sensor, off.knee.axis_in_parent_sensor)

@@ -20,7 +20,8 @@ trial loading excluded), the number calibration.json reports (docs/formats.md).
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+import warnings
+from dataclasses import dataclass, field, replace
 from typing import Any, Protocol
 
 import numpy as np
@@ -35,9 +36,11 @@ from lowerlimb.calibration._prepare import (
 from lowerlimb.calibration.hinge_joint import fit_hinge_joint
 from lowerlimb.calibration.impact_window import impact_keep_mask
 from lowerlimb.calibration.joint_center import fit_spherical
+from lowerlimb.calibration.knee_line import standing_axis_mismatch, with_knee_line
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.calibration.segment_prior import CenterPrior, center_prior, segment_up
+from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import JOINT_SENSORS, SENSORS, FloatArray
 from lowerlimb.errors import InputError
 from lowerlimb.stillness import StillPeriod
@@ -296,6 +299,30 @@ def calibrate_leg(
             ("ankle", ankle_data, pa, ca, ankle_prior, ankle_keep),
         )
     )
+    priors = {n: pr.to_dict() for n, pr in (("hip", hip_prior), ("ankle", ankle_prior)) if pr is not None}
+    if opts.anthropometric_prior and opts.knee_line_prior:
+        cap = caps.get(f"{pk}-{ck}")
+        cuts = [None] if cap is None else [None, *(f * cap for f in opts.knee_line_probe_factors)]
+        probe_data = (joint_signals(acc, gyr, sig, pk, ck, opts, None, hz, own_band=False) for hz in cuts)
+        probes = [_knee_probe(knee, d, method, opts) for d in probe_data]
+        knee, line = with_knee_line(
+            knee,
+            hip.center_in_child_sensor,
+            ankle.center_in_parent_sensor,
+            probes,
+            mean_m=opts.knee_line_mean_m,
+            std_m=opts.knee_line_std_m,
+            min_data_std_m=opts.knee_line_min_data_std_m,
+            axis_mismatch_rad=(
+                standing_axis_mismatch(
+                    knee, acc[pk][: sig.n_still].mean(axis=0), acc[ck][: sig.n_still].mean(axis=0)
+                )
+                if sig.n_still > 0
+                else 0.0
+            ),
+            max_mismatch_rad=np.radians(opts.knee_line_max_mismatch_deg),
+        )
+        priors["knee_line"] = line.to_dict()
     runtime = time.perf_counter() - t0
     return LegCalibration(
         side=side,
@@ -308,7 +335,25 @@ def calibrate_leg(
         still_s=sig.n_still / rate,
         cutoff_hz=sig.cutoff_hz,
         rigid_band_cap_hz=caps,
-        priors={
-            name: pr.to_dict() for name, pr in (("hip", hip_prior), ("ankle", ankle_prior)) if pr is not None
-        },
+        priors=priors,
     )
+
+
+def _knee_probe(
+    knee: HingeJointCalibration, data: SphericalData, method: str, options: CalibrationOptions
+) -> HingeJointCalibration:
+    """The knee centre refitted on the sensors' own cut-offs (no rigid-band cap), same axis, quietly.
+
+    How far this moves the knee along its axis is the systematic part of the
+    data's spread there (:mod:`~lowerlimb.calibration.knee_line`).
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        center = fit_spherical(
+            data,
+            method=method if method in ("casadi", "gn") else "casadi",
+            options=options,
+            joint="knee",
+            gauge_axes=(knee.axis_in_parent_sensor, knee.axis_in_child_sensor),
+        )
+    return replace(knee, center=center)

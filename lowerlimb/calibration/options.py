@@ -158,6 +158,22 @@ class CalibrationOptions:
         prior_std_axis_m: its standard deviation along the knee axis about the
             sensor, m (the sensor sits on the skin, a segment radius from the bone).
         prior_weight: multiplier of the prior's rows against the data's.
+        knee_line_prior: weigh the knee's relative position along its axis (the
+            ankle minus the hip centre along the knee axis) against an anatomical
+            prior (:mod:`~lowerlimb.calibration.knee_line`; only with
+            ``anthropometric_prior``).
+        knee_line_mean_m: that prior's mean, m (hip, knee and ankle centres on one
+            line perpendicular to the knee axis).
+        knee_line_std_m: its standard deviation, m (3° over a 0.8 m leg).
+        knee_line_min_data_std_m: the smallest spread granted to the data's
+            estimate of it, m.
+        knee_line_probe_factors: the knee centre is refitted without its low-pass
+            cap and at these multiples of it; the largest shift of that relative
+            position is the systematic part of the data's spread.
+        knee_line_max_mismatch_deg: the prior applies only when the knee axis's
+            elevation above the standing horizontal agrees in the thigh and the shank
+            sensor to within this, deg (a hinge keeps it; soft tissue on a real
+            thigh does not).
     """
 
     prefilter: bool = True
@@ -210,11 +226,25 @@ class CalibrationOptions:
     prior_std_across_m: float = 0.035
     prior_std_axis_m: float = 0.06
     prior_weight: float = 1.0
+    knee_line_prior: bool = True
+    knee_line_mean_m: float = 0.0
+    knee_line_std_m: float = 0.04
+    knee_line_min_data_std_m: float = 0.005
+    knee_line_probe_factors: tuple[float, ...] = (1.5, 3.0)
+    knee_line_max_mismatch_deg: float = 5.0
 
     def __post_init__(self) -> None:
         if self.angacc_window_s <= 0:
             raise InputError(f"angacc_window_s must be > 0 s, got {self.angacc_window_s}")
-        for name in ("prior_stature_m", "prior_std_along", "prior_std_across_m", "prior_std_axis_m"):
+        for name in (
+            "prior_stature_m",
+            "prior_std_along",
+            "prior_std_across_m",
+            "prior_std_axis_m",
+            "knee_line_std_m",
+            "knee_line_min_data_std_m",
+            "knee_line_max_mismatch_deg",
+        ):
             if getattr(self, name) <= 0:
                 raise InputError(f"{name} must be > 0, got {getattr(self, name)}")
         if not 0.0 < self.noise_correction_max_fraction < 1.0:
