@@ -47,7 +47,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..conventions import FloatArray, rot_z
+from ..conventions import GRAVITY_MPS2, FloatArray, rot_z
 from .motions import smoothstep
 from .toe_rocker import PreSwingParams, push_off_shape, toe_roll_shape
 
@@ -102,6 +102,10 @@ class WalkDraw:
         hip_rotation_deg: Hip internal-rotation amplitude (both legs), deg.
         swing_peak_fraction: The swing foot's forward velocity peaks this fraction of the
             swing after toe-off (at minimum toe clearance, about mid-swing).
+        plantarflexion_hold_s: After toe-off the rearfoot keeps its plantarflexion rate
+            this long, s (:func:`_post_toe_off_pitch`).
+        plantarflexion_stop_s: Then its rate falls to zero within this time, s: the largest
+            plantarflexion comes ``hold + stop`` after toe-off.
     """
 
     stride_time_s: float
@@ -122,6 +126,8 @@ class WalkDraw:
     pelvis_deg: tuple[float, float, float]
     hip_rotation_deg: float
     swing_peak_fraction: float
+    plantarflexion_hold_s: float
+    plantarflexion_stop_s: float
 
 
 def draw_walk(rng: np.random.Generator) -> WalkDraw:
@@ -150,7 +156,18 @@ def draw_walk(rng: np.random.Generator) -> WalkDraw:
         # the foot's forward velocity peaks at minimum toe clearance (Winter 1992; Perry &
         # Burnfield 2010, ch. 8: mid-swing)
         swing_peak_fraction=u(0.5, 0.6),
+        **_draw_release(rng.spawn(1)[0]),
     )
+
+
+def _draw_release(rng: np.random.Generator) -> dict[str, float]:
+    """The post-toe-off rearfoot phase of :class:`WalkDraw`, from its own child stream.
+
+    A child stream (:meth:`numpy.random.Generator.spawn` does not advance ``rng``) leaves
+    every other draw of a seed, and the sensor placements drawn after the walk, as they were.
+    """
+    u = rng.uniform
+    return {"plantarflexion_hold_s": u(0.015, 0.03), "plantarflexion_stop_s": u(0.025, 0.04)}
 
 
 @dataclass(frozen=True)
@@ -240,7 +257,7 @@ def _stance_pose(
         if t <= st.heel_off:
             return st.ankle.copy(), 0.0, st.heading, 0.0
         p = -pitch_max * push_off_shape((t - st.heel_off) / (t_max - st.heel_off), standing)
-        phi = -toe_tilt * toe_roll_shape((t - st.toe_off + roll) / roll)  # toe segment pitch
+        phi = -toe_tilt * toe_roll_shape((t - st.toe_off + roll) / roll, pre.toe_roll_power)  # toe pitch
         # the toe tip stays put; the MTP joint turns about it, the rearfoot about the MTP joint
         mtp_w = toe_w + R_flat @ rot_z(phi) @ (foot.mtp - foot.toe)
         return mtp_w - R_flat @ rot_z(p) @ foot.mtp, p, st.heading, phi - p
@@ -356,29 +373,42 @@ def _hermite_derivative(
     return np.asarray((y[2] - 2 * y[1] + y[0]) / eps**2)
 
 
-def _swing(ends: tuple, D: float, s: FloatArray, d: WalkDraw, rate_zero_s: float) -> FloatArray:
+def _post_toe_off_pitch(
+    p0: float, w0: float, hold_s: float, stop_s: float, tau: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """Rearfoot pitch (rad) and rate (rad/s) ``tau`` s after toe-off, over hold and stop.
+
+    The rate stays at its toe-off value ``w0`` (rad/s) for ``hold_s``, then falls to zero
+    within ``stop_s`` along ``1 − smoothstep``: the pitch is ``p0`` (rad) at toe-off and
+    ``p0 + w0 (hold + stop / 2)`` at the largest plantarflexion.
+    """
+    x = np.clip((tau - hold_s) / stop_s, 0.0, 1.0)
+    pitch = p0 + w0 * (np.minimum(tau, hold_s) + stop_s * (x - x**3 + 0.5 * x**4))
+    rate = w0 * (1.0 - 3.0 * x**2 + 2.0 * x**3)
+    return np.asarray(pitch), np.asarray(rate)
+
+
+def _swing(ends: tuple, D: float, s: FloatArray, d: WalkDraw) -> FloatArray:
     """(len(s), 6) swing from toe-off (s = 0) to the next contact (s = 1), as in :func:`_foot_samples`.
 
     Each coordinate is the quintic Hermite curve between the two stance states ``ends`` (value,
-    rate and acceleration at toe-off and contact, six arrays of (6,)); two coordinates
-    spend a sextic's freedom (:func:`_bump`) on what gait analysis measures of the swing:
+    rate and acceleration at toe-off and contact, six arrays of (6,)), except the rearfoot
+    pitch. The ankle's progression (along the horizontal line from toe-off to contact)
+    spends a sextic's freedom (:func:`_bump`) on being fastest at ``d.swing_peak_fraction``
+    of the swing, mid-swing, where the toe passes closest to the floor (peak forward foot
+    velocity at minimum toe clearance: Winter 1992, "Foot trajectory in human gait: a
+    precise and multifactorial motor control task", Phys. Ther. 72(1); Perry & Burnfield
+    2010, ch. 8). Then the lift (``d.clearance_m``, :data:`_LIFT_NORM`) raises the ankle at
+    mid-swing.
 
-    * the ankle's progression (along the horizontal line from toe-off to contact) is fastest
-      at ``d.swing_peak_fraction`` of the swing, mid-swing, where the toe passes closest to
-      the floor (peak forward foot velocity at minimum toe clearance: Winter 1992, "Foot
-      trajectory in human gait: a precise and multifactorial motor control task", Phys.
-      Ther. 72(1); Perry & Burnfield 2010, ch. 8). A plain quintic between the toe-off state
-      and a foot that stops at contact peaks at ~40 % of the swing and keeps accelerating
-      the foot forwards for ~60 ms after toe-off (forward ankle acceleration 12 → 19 m/s² on
-      the walks drawn here), where a human foot's forward acceleration falls (Vicon ankle
-      centre of the real walk of ``gait/``: 8 → 5 m/s²);
-    * the rearfoot pitch's rate returns to zero ``rate_zero_s`` (fraction of the swing)
-      after toe-off: the largest plantarflexion comes a few per cent of the cycle after
-      toe-off (:class:`~.toe_rocker.PreSwingParams`), not where the quintic alone puts it
-      (~8 % of the cycle, and 15° further), which left the foot plantarflexed through
-      mid-swing.
-
-    Then the lift (``d.clearance_m``, :data:`_LIFT_NORM`) raises the ankle at mid-swing.
+    The rearfoot pitch keeps its toe-off rate for ``d.plantarflexion_hold_s`` and is then
+    stopped within ``d.plantarflexion_stop_s`` (:func:`_post_toe_off_pitch`): the foot's
+    plantarflexion is not braked until the toe has left, and then abruptly, by the
+    dorsiflexors' burst at toe-off (tibialis anterior: onset in pre-swing, first peak in
+    initial swing; Perry & Burnfield 2010, ch. 7, and Winter 2009, *Biomechanics and Motor
+    Control of Human Movement*, app. A: largest plantarflexion a few per cent of the cycle
+    after toe-off). From that largest plantarflexion (rate and angular acceleration zero)
+    a quintic Hermite curve dorsiflexes the foot to its contact pitch.
     """
     y0, v0, a0, y1, v1, a1 = ends
     y = _hermite5(y0, v0, a0, y1, v1, a1, D, s)
@@ -387,13 +417,18 @@ def _swing(ends: tuple, D: float, s: FloatArray, d: WalkDraw, rate_zero_s: float
     u = u / max(float(np.linalg.norm(u)), 1e-9)
     curv = float(u @ _hermite_derivative(ends, D, sp, 2)[:2])
     y[:, :2] += (-curv / float(_bump(sp, 2))) * _bump(s)[:, None] * u
-    # pitch: rate zero at rate_zero_s (largest plantarflexion) and fastest dorsiflexion at sp
-    k = (3, 5)
-    A = np.array([[_bump(rate_zero_s, 1, kk) for kk in k], [_bump(sp, 2, kk) for kk in k]])
-    rhs = -np.array([_hermite_derivative(ends, D, rate_zero_s, 1)[3], _hermite_derivative(ends, D, sp, 2)[3]])
-    c = np.linalg.solve(A, rhs)
-    y[:, 3] += c[0] * _bump(s, 0, k[0]) + c[1] * _bump(s, 0, k[1])
     y[:, 2] += d.clearance_m * _LIFT_NORM * s**4 * (1.0 - s) ** 4
+    hold, stop = d.plantarflexion_hold_s, d.plantarflexion_stop_s
+    tau = s * D
+    p, _ = _post_toe_off_pitch(float(y0[3]), float(v0[3]), hold, stop, tau)
+    t_max = hold + stop
+    late = tau > t_max
+    p_max = float(_post_toe_off_pitch(float(y0[3]), float(v0[3]), hold, stop, np.array([t_max]))[0][0])
+    zero = np.zeros(1)
+    p[late] = _hermite5(
+        np.array([p_max]), zero, zero, y1[3:4], v1[3:4], a1[3:4], D - t_max, (tau[late] - t_max) / (D - t_max)
+    )[:, 0]
+    y[:, 3] = p
     return y
 
 
@@ -420,10 +455,14 @@ def _foot_samples(
         y0, v0, a0 = _state(pose, st.toe_off)
         y1, v1, _ = _state(_stance_pose(nxt, d, foot, T, pre), nxt.ic)
         a1 = np.zeros_like(v1)  # contact is a C¹ join: the floor's push is a step in acceleration
+        # toe-off is a C¹ join too: the floor's push on the toe ends, and the ankle starts its
+        # swing with the acceleration of gravity alone (:func:`_swing`)
+        a0 = a0.copy()
+        a0[:3] = (0.0, 0.0, -GRAVITY_MPS2)
         swing = (t > st.toe_off) & (t < nxt.ic)
         D = nxt.ic - st.toe_off
         s = (t[swing] - st.toe_off) / D
-        y = _swing((y0, v0, a0, y1, v1, a1), D, s, d, pre.largest_plantarflexion_fraction * T / D)
+        y = _swing((y0, v0, a0, y1, v1, a1), D, s, d)
         out[swing] = y
     return out
 
