@@ -46,6 +46,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
 from ..conventions import GRAVITY_MPS2, FloatArray, rot_z
 from .motions import smoothstep
@@ -91,8 +92,8 @@ class WalkDraw:
         to_pitch_rad: Foot pitch at TO, toes down (positive number), rad.
         step_width_m: Lateral distance between the two feet's ankle centres, m.
         toe_out_rad: ``(left, right)`` foot progression angle, outwards positive, rad.
-        clearance_m: Extra ankle height at mid-swing, where the toe passes closest to the
-            floor, m.
+        min_toe_clearance_m: Height of the toe tip above the floor where it passes closest
+            to it, about mid-swing, m (:func:`_mid_swing_lift`).
         pelvis_drop_m: Pelvis lowering in mid-stance while walking, m.
         heading0_rad: Initial heading (walking direction from ENU east), rad.
         turn_amplitude_rad: Amplitude of the slow heading oscillation, rad.
@@ -117,7 +118,7 @@ class WalkDraw:
     to_pitch_rad: float
     step_width_m: float
     toe_out_rad: tuple[float, float]
-    clearance_m: float
+    min_toe_clearance_m: float
     pelvis_drop_m: float
     heading0_rad: float
     turn_amplitude_rad: float
@@ -143,9 +144,8 @@ def draw_walk(rng: np.random.Generator) -> WalkDraw:
         to_pitch_rad=np.deg2rad(u(55.0, 65.0)),
         step_width_m=u(0.08, 0.14),
         toe_out_rad=(np.deg2rad(u(2.0, 10.0)), np.deg2rad(u(2.0, 10.0))),
-        # at mid-swing, on top of the Hermite curve's own height: the toe tip then passes
-        # ~0.5-1.5 cm above the floor (minimum toe clearance ~1-2 cm; Winter 1992)
-        clearance_m=u(0.05, 0.07),
+        # minimum toe clearance 1.29 ± 0.45 cm (Winter 1992, healthy young adults)
+        min_toe_clearance_m=u(0.008, 0.02),
         pelvis_drop_m=u(0.003, 0.008),
         heading0_rad=u(-np.pi, np.pi),
         turn_amplitude_rad=u(0.3, 0.8),
@@ -388,7 +388,7 @@ def _post_toe_off_pitch(
     return np.asarray(pitch), np.asarray(rate)
 
 
-def _swing(ends: tuple, D: float, s: FloatArray, d: WalkDraw) -> FloatArray:
+def _swing(ends: tuple, D: float, s: FloatArray, d: WalkDraw, lift_m: float = 0.0) -> FloatArray:
     """(len(s), 6) swing from toe-off (s = 0) to the next contact (s = 1), as in :func:`_foot_samples`.
 
     Each coordinate is the quintic Hermite curve between the two stance states ``ends`` (value,
@@ -398,8 +398,8 @@ def _swing(ends: tuple, D: float, s: FloatArray, d: WalkDraw) -> FloatArray:
     of the swing, mid-swing, where the toe passes closest to the floor (peak forward foot
     velocity at minimum toe clearance: Winter 1992, "Foot trajectory in human gait: a
     precise and multifactorial motor control task", Phys. Ther. 72(1); Perry & Burnfield
-    2010, ch. 8). Then the lift (``d.clearance_m``, :data:`_LIFT_NORM`) raises the ankle at
-    mid-swing.
+    2010, ch. 8). Then the lift ``lift_m`` (:data:`_LIFT_NORM`, :func:`_mid_swing_lift`)
+    raises the ankle at mid-swing.
 
     The rearfoot pitch keeps its toe-off rate for ``d.plantarflexion_hold_s`` and is then
     stopped within ``d.plantarflexion_stop_s`` (:func:`_post_toe_off_pitch`): the foot's
@@ -417,7 +417,7 @@ def _swing(ends: tuple, D: float, s: FloatArray, d: WalkDraw) -> FloatArray:
     u = u / max(float(np.linalg.norm(u)), 1e-9)
     curv = float(u @ _hermite_derivative(ends, D, sp, 2)[:2])
     y[:, :2] += (-curv / float(_bump(sp, 2))) * _bump(s)[:, None] * u
-    y[:, 2] += d.clearance_m * _LIFT_NORM * s**4 * (1.0 - s) ** 4
+    y[:, 2] += lift_m * _LIFT_NORM * s**4 * (1.0 - s) ** 4
     hold, stop = d.plantarflexion_hold_s, d.plantarflexion_stop_s
     tau = s * D
     p, _ = _post_toe_off_pitch(float(y0[3]), float(v0[3]), hold, stop, tau)
@@ -430,6 +430,26 @@ def _swing(ends: tuple, D: float, s: FloatArray, d: WalkDraw) -> FloatArray:
     )[:, 0]
     y[:, 3] = p
     return y
+
+
+def _mid_swing_lift(ends: tuple, D: float, d: WalkDraw, foot: _FootGeometry) -> float:
+    """The lift (m) of :func:`_swing` that puts the toe tip ``d.min_toe_clearance_m`` above the floor.
+
+    The minimum is taken over the middle of the swing (s ∈ [0.2, 0.8]), where the toe passes
+    closest to the floor (Winter 1992); the floor is the toe tip's height at toe-off. The
+    clearance grows with the lift, so one root search finds it.
+    """
+    s = np.linspace(0.0, 1.0, 401)
+    mid = (s >= 0.2) & (s <= 0.8)
+    y = _swing(ends, D, s, d)
+    floor = float(_toe_tip(ends[0][None, :], foot)[0, 2])
+    tip = _toe_tip(y, foot)[:, 2] - floor
+    bump = _LIFT_NORM * s**4 * (1.0 - s) ** 4
+
+    def excess(lift: float) -> float:
+        return float(np.min(tip[mid] + lift * bump[mid])) - d.min_toe_clearance_m
+
+    return float(brentq(excess, -0.2, 0.4))
 
 
 def _foot_samples(
@@ -462,7 +482,8 @@ def _foot_samples(
         swing = (t > st.toe_off) & (t < nxt.ic)
         D = nxt.ic - st.toe_off
         s = (t[swing] - st.toe_off) / D
-        y = _swing((y0, v0, a0, y1, v1, a1), D, s, d)
+        ends = (y0, v0, a0, y1, v1, a1)
+        y = _swing(ends, D, s, d, _mid_swing_lift(ends, D, d, foot))
         out[swing] = y
     return out
 
