@@ -432,6 +432,26 @@ def _swing(ends: tuple, D: float, s: FloatArray, d: WalkDraw, lift_m: float = 0.
     return y
 
 
+def _released(ends: tuple, D: float, d: WalkDraw, foot: _FootGeometry) -> tuple:
+    """``ends`` of :func:`_swing` with the ankle's acceleration at toe-off that of a released foot.
+
+    Toe-off is a C¹ join, as contact is: the floor's push on the toe ends there, a step in
+    the foot's acceleration (on the real walk of ``gait/`` the foot IMU's specific force
+    falls from ~20 to ~10 m/s² within 20 ms of toe-off). The ankle starts its swing with
+    gravity's acceleration alone, no forward one, unless that would take the toe tip, which
+    leaves the floor at rest, back into it: then the ankle falls only as fast as leaves the
+    tip's vertical acceleration zero.
+    """
+    y0, v0, a0, y1, v1, a1 = ends
+    a0 = a0.copy()
+    a0[:3] = (0.0, 0.0, -GRAVITY_MPS2)
+    e = 1e-4
+    tip = _toe_tip(_swing((y0, v0, a0, y1, v1, a1), D, np.array([0.0, e, 2 * e]), d), foot)[:, 2]
+    tip_acc = (tip[2] - 2 * tip[1] + tip[0]) / (e * D) ** 2
+    a0[2] -= min(tip_acc, 0.0)
+    return y0, v0, a0, y1, v1, a1
+
+
 def _mid_swing_lift(ends: tuple, D: float, d: WalkDraw, foot: _FootGeometry) -> float:
     """The lift (m) of :func:`_swing` that puts the toe tip ``d.min_toe_clearance_m`` above the floor.
 
@@ -475,14 +495,10 @@ def _foot_samples(
         y0, v0, a0 = _state(pose, st.toe_off)
         y1, v1, _ = _state(_stance_pose(nxt, d, foot, T, pre), nxt.ic)
         a1 = np.zeros_like(v1)  # contact is a C¹ join: the floor's push is a step in acceleration
-        # toe-off is a C¹ join too: the floor's push on the toe ends, and the ankle starts its
-        # swing with the acceleration of gravity alone (:func:`_swing`)
-        a0 = a0.copy()
-        a0[:3] = (0.0, 0.0, -GRAVITY_MPS2)
         swing = (t > st.toe_off) & (t < nxt.ic)
         D = nxt.ic - st.toe_off
         s = (t[swing] - st.toe_off) / D
-        ends = (y0, v0, a0, y1, v1, a1)
+        ends = _released((y0, v0, a0, y1, v1, a1), D, d, foot)
         y = _swing(ends, D, s, d, _mid_swing_lift(ends, D, d, foot))
         out[swing] = y
     return out
