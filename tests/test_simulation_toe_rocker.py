@@ -3,7 +3,9 @@
 Each test checks what lowerlimb/simulation/toe_rocker.py and footsteps.py promise: the toe
 tip stays put on the floor until toe-off and toe-off is the instant it leaves; the MTP joint
 is dorsiflexed as set at toe-off; the rearfoot plantarflexes fastest before toe-off and most
-after it; and the rearfoot's pose has no step in acceleration where a pivot changes.
+after it, keeping its toe-off rate for the drawn hold and stopping within the drawn stop; the
+rearfoot's pose has no step in acceleration where a pivot changes, and one at toe-off, where the
+floor lets the foot go; the toe passes the floor at the drawn minimum clearance.
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
-from lowerlimb.conventions import SIDES
+from lowerlimb.conventions import GRAVITY_MPS2, SIDES
 from lowerlimb.simulation import BilateralSimulation, ImuNoise, simulate_bilateral
 from lowerlimb.simulation.footsteps import FootPlan, WalkDraw, draw_walk, pelvis_path, plan_feet
 from lowerlimb.simulation.toe_rocker import PreSwingParams
@@ -105,28 +107,75 @@ def test_the_rearfoot_plantarflexes_fastest_before_toe_off_and_most_after_it():
             assert np.deg2rad(50.0) < -_pitch(plan)[k].min() < np.deg2rad(85.0)
 
 
-def test_the_rearfoot_pose_has_no_step_in_acceleration_where_the_pivot_changes():
-    """Heel-off, toe-roll onset and toe-off are C² joins (initial contact and foot-flat are not)."""
-    plan, d, h = _fine_plan()
+def _acc_jumps(plan: FootPlan, h: float, times: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Ankle (3) and pitch accelerations just before and just after each time, extrapolated to it."""
     y = np.column_stack([plan.ankle_m, _pitch(plan)])
     acc = np.gradient(np.gradient(y, h, axis=0), h, axis=0)
     t = np.arange(y.shape[0]) * h
-    ev = plan.events
-    walking_to = ev.toe_off_s[ev.toe_off_s > 2.5]
-    roll_onsets = walking_to - (d.stance_fraction - 0.5) * d.stride_time_s
-    joins = np.concatenate([ev.foot_flat_s[ev.foot_flat_s[:, 1] > 2.5, 1], roll_onsets, walking_to])
-    assert joins.size >= 6
-    for tj in joins:
+    out = []
+    for tj in times:
         k = int(round(tj / h))
         # each side's acceleration extrapolated to the join by a quadratic through 10 samples
         left = np.arange(k - 12, k - 2)
         right = np.arange(k + 3, k + 13)
-        jump = [
-            np.polyval(np.polyfit(t[right], acc[right, i], 2), tj)
-            - np.polyval(np.polyfit(t[left], acc[left, i], 2), tj)
-            for i in range(4)
-        ]
+        before = np.array([np.polyval(np.polyfit(t[left], acc[left, i], 2), tj) for i in range(4)])
+        after = np.array([np.polyval(np.polyfit(t[right], acc[right, i], 2), tj) for i in range(4)])
+        out.append((before, after))
+    return out
+
+
+def test_the_rearfoot_pose_has_no_step_in_acceleration_where_the_pivot_changes():
+    """Heel-off and toe-roll onset are C² joins (initial contact, foot-flat and toe-off are not)."""
+    plan, d, h = _fine_plan()
+    ev = plan.events
+    walking_to = ev.toe_off_s[ev.toe_off_s > 2.5]
+    roll_onsets = walking_to - (d.stance_fraction - 0.5) * d.stride_time_s
+    joins = np.concatenate([ev.foot_flat_s[ev.foot_flat_s[:, 1] > 2.5, 1], roll_onsets])
+    assert joins.size >= 4
+    for tj, (before, after) in zip(joins, _acc_jumps(plan, h, joins), strict=True):
+        jump = after - before
         # a C¹ join (a rocker starting with a finite angular acceleration, as heel-off was)
         # steps by several m/s² and tens of rad/s²
         assert np.abs(jump[:3]).max() < 0.2, tj
         assert abs(jump[3]) < 1.0, tj
+
+
+def test_at_toe_off_the_floor_lets_the_ankle_go():
+    """Right after toe-off the ankle has no forward acceleration and falls at most at g."""
+    plan, d, h = _fine_plan()
+    tos = plan.events.toe_off_s[plan.events.toe_off_s > 2.5]
+    assert tos.size >= 2
+    for to, (before, after) in zip(tos, _acc_jumps(plan, h, tos), strict=True):
+        assert np.abs(after[:2]).max() < 0.3, to
+        assert -GRAVITY_MPS2 - 0.3 < after[2] < 0.0, to
+        # a step: the push-off was still accelerating the ankle forwards
+        assert np.linalg.norm(before[:2]) > 2.0, to
+
+
+def test_after_toe_off_the_rearfoot_keeps_its_rate_then_stops():
+    plan, d, h = _fine_plan()
+    rate = np.gradient(_pitch(plan), h)
+    hold, stop = d.plantarflexion_hold_s, d.plantarflexion_stop_s
+    assert 0.01 < hold < 0.04 and 0.02 < stop < 0.05
+    for to in plan.events.toe_off_s[plan.events.toe_off_s > 2.5]:
+        k = int(round(to / h))
+        w0 = rate[k + 2]
+        assert w0 < -3.0  # still plantarflexing fast (rad/s)
+        held = rate[k + 2 : k + int(hold / h) - 1]
+        np.testing.assert_allclose(held, w0, rtol=0.02)
+        k_max = k + int(round((hold + stop) / h))
+        assert abs(rate[k_max]) < 0.05 * abs(w0)
+        # the largest plantarflexion is there
+        near = np.arange(k, k + int(0.15 / h))
+        assert abs(near[np.argmin(_pitch(plan)[near])] - k_max) <= 3
+
+
+def test_the_toe_passes_the_floor_at_the_drawn_clearance():
+    plan, d, h = _fine_plan()
+    ev = plan.events
+    floor = plan.toe_tip_m[0, 2]  # standing: the whole sole on the floor
+    for to in ev.toe_off_s[ev.toe_off_s > 2.5]:
+        ic = ev.initial_contact_s[ev.initial_contact_s > to][0]
+        s = (np.arange(plan.toe_tip_m.shape[0]) * h - to) / (ic - to)
+        mid = (s >= 0.2) & (s <= 0.8)
+        assert plan.toe_tip_m[mid, 2].min() - floor == pytest.approx(d.min_toe_clearance_m, abs=2e-4)

@@ -24,11 +24,13 @@ Analysis*, ch. 2–4):
    so the contact point has zero velocity throughout stance and the whole foot is
    still while flat.
 4. **The foot in swing** goes from its TO pose to the next IC pose along quintic
-   Hermite curves that match position, velocity and acceleration at both ends (the
-   pose is C² except at IC, where the swing's approach meets the heel rocker only
-   C¹; the ground reaction falls continuously to zero at TO, so the swing starts C²
-   from the TO state), plus a lift that peaks in early swing; the MTP joint returns
-   to neutral by the next contact.
+   Hermite curves that match position and velocity at both ends; at both ends the
+   floor's push starts or stops, so the acceleration steps there (C¹ joins): the swing
+   starts with the ankle released (:func:`_released`) and ends at rest on the heel.
+   After TO the rearfoot keeps its plantarflexion rate, then is stopped
+   (:func:`_post_toe_off_pitch`); a lift at mid-swing gives the toe its drawn minimum
+   clearance (:func:`_mid_swing_lift`); the MTP joint returns to neutral by the next
+   contact.
 5. **The pelvis** follows the path at the walking speed (ramped up from standing),
    sways over the stance foot, tilts, drops and rotates a few degrees per stride;
    its height is lowered where a leg could not otherwise reach its foot with the

@@ -23,11 +23,14 @@ of the cycle after toe-off (Perry & Burnfield 2010, ch. 7: peak plantarflexion ~
 the start of initial swing; Winter 2009, *Biomechanics and Motor Control of Human
 Movement*, app. A: peak plantarflexion ~62-64 % of the cycle for a toe-off at ~60 %),
 so the rearfoot's plantarflexion rate rises from zero at heel-off, peaks in pre-swing
-and has already slowed at toe-off. The pitch is a polynomial bell of its rate between
-heel-off and that largest plantarflexion (:func:`push_off_shape`); the swing then
-continues from the toe-off state (position, velocity and acceleration: the ground
-reaction falls continuously to zero at toe-off, so the foot's acceleration does not
-jump there).
+and has already slowed a little at toe-off. The pitch is a polynomial bell of its rate
+between heel-off and toe-off (:func:`push_off_shape`). After toe-off the rearfoot keeps
+its rate for a few tens of ms and is then stopped within a few tens of ms
+(:func:`~.footsteps._post_toe_off_pitch`, durations drawn per walk): on the real walk of
+``gait/`` the foot's sagittal rate stays at its toe-off value for ~30 ms and falls to
+zero within the next ~30 ms, with a 20-30 m/s² spike of the foot IMU's specific force
+where it is stopped. Toe-off is a C¹ join of the foot's motion (the floor's push on the
+toe ends there; :func:`~.footsteps._released`), as initial contact is.
 """
 
 from __future__ import annotations
