@@ -57,7 +57,7 @@ def test_a_flat_foot_is_still_and_its_rockers_pivot_on_fixed_points():
         assert np.abs(gyr).max() < 0.01  # rad/s
         assert np.abs(np.linalg.norm(acc, axis=1) - np.linalg.norm(GRAVITY_ENU)).max() < 0.2
         # heel rocker: the heel point does not move between contact and foot-flat
-        heel, _ = _foot_points(sim.models[side])
+        heel = _foot_points(sim.models[side])[0]
         for ic, (ff, _) in zip(ev.initial_contact_s, ev.foot_flat_s, strict=False):
             k = (t >= ic) & (t <= ff)
             p = sim.feet[side].ankle_m[k] + np.einsum("nij,j->ni", sim.feet[side].rotation[k], heel)
@@ -113,7 +113,8 @@ def test_signals_look_like_walking():
     body = slice(0, -30)  # the spline's last samples are extrapolated
     for name in c.acc:
         peak = np.linalg.norm(c.acc[name][body], axis=1).max()
-        assert 12.0 < peak < 90.0, name
+        # the sacrum only bobs (~2-3 cm at the step frequency: ~±1.5-2 m/s² about g)
+        assert (11.0 if name == "pelvis" else 12.0) < peak < 90.0, name
     knee = np.rad2deg(sim.angles_rad[:, 3])
     assert 50.0 < knee.max() < 85.0
 

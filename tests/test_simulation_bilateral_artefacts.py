@@ -21,8 +21,11 @@ from lowerlimb.conventions import SIDES, quat_to_matrix
 from lowerlimb.simulation import Artefacts, BilateralSimulation, ImuNoise, simulate_bilateral
 from lowerlimb.simulation.sensor_errors import resample_at
 
-#: sha256 of the rigid walk (seed 5, 8 s) rounded to 1e-6, recorded before the profile existed.
-RIGID_WALK_SHA256 = "e4084d9d2f8dcc1ea5f8bd897163b8857a9b0920fb31988e6fb994455084cca2"
+#: sha256 of the rigid walk (seed 5, 8 s) rounded to 1e-6, recorded before the profile existed
+#: (re-recorded when the foot got its toe segment and push-off, and again when the swing got its
+#: mid-swing velocity peak and lift, and again with the hold and stop after toe-off: the walk
+#: itself changed).
+RIGID_WALK_SHA256 = "6809eab3d6e66687c84c495ab6c4b01b56e509ea5e56cc3e9a0055a7fb3c76a7"
 SEED, DURATION_S = 5, 10.0
 #: Impact window after each initial contact and mid-swing window length, s.
 WINDOW_S = 0.15

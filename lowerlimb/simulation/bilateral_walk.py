@@ -11,8 +11,8 @@ sensor errors (with a profile), noise and bias → truth: joints, angles, positi
 events and spatio-temporal parameters (:mod:`lowerlimb.simulation.gait_truth`).
 
 Both legs move in opposite phase with double support, and each foot is still on the
-ground while flat; the heel (heel rocker) and the metatarsal heads (forefoot rocker)
-are pivots with zero velocity.
+ground while flat; the heel (heel rocker), the MTP joint (forefoot rocker) and the toe
+tip (toe rocker, until toe-off) are pivots with zero velocity.
 """
 
 from __future__ import annotations
@@ -67,6 +67,7 @@ from .simulator import (
     _Trajectories,
 )
 from .tissue_motion import TissueMotion
+from .toe_rocker import PreSwingParams
 
 __all__ = ["BilateralSimulation", "simulate_bilateral"]
 
@@ -259,16 +260,20 @@ def _standing(legs: dict[str, LegModel], heading0: float) -> tuple[float, dict[s
     return z_stand, ankles
 
 
-def _foot_points(leg: LegModel) -> tuple[FloatArray, FloatArray]:
-    """Heel and metatarsal-head points in the foot segment frame (origin: ankle centre), m.
+def _foot_points(leg: LegModel) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Heel, MTP joint centre and toe tip in the foot segment frame (origin: ankle centre), m.
 
     The sole is ``ankle_height_m`` below the ankle; the heel 22 % of de Leva's foot length
-    behind it, and the forefoot pivot of the last rocker (between the metatarsal heads and
-    the toe tip) 65 % ahead of it.
+    behind it; the MTP joint and the toe tip as :class:`PreSwingParams` places them.
     """
+    pre = PreSwingParams()
     h_a = ankle_height_m(leg.geometry.height_m)
     Lf = leg.geometry.inertias["foot"].length_m
-    return np.array([-0.22 * Lf, -h_a, 0.0]), np.array([0.65 * Lf, -h_a, 0.0])
+    return (
+        np.array([-0.22 * Lf, -h_a, 0.0]),
+        np.array([pre.mtp_ahead_fraction * Lf, pre.mtp_height_m - h_a, 0.0]),
+        np.array([pre.toe_tip_fraction * Lf, -h_a, 0.0]),
+    )
 
 
 def _trajectory(t: FloatArray, Q: FloatArray) -> _Trajectories:

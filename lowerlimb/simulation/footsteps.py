@@ -13,16 +13,24 @@ Analysis*, ch. 2–4):
 2. **Footprints.** Each stance has a footprint: the ankle centre at foot-flat and the
    foot's heading. It lies beside the pelvis path (half the step width to its side)
    where the pelvis will be in mid-stance, turned out by the foot's toe-out angle.
-3. **The foot in stance** rolls over the three rockers: from IC it pivots about the
+3. **The foot in stance** rolls over the rockers: from IC it pivots about the
    heel point (pitch ``θ_ic`` toes up → 0, heel rocker), stays flat and still
-   (ankle rocker, the foot-stationary period), then pivots about the metatarsal
-   heads (0 → ``−θ_to``) until TO. The pivot point is fixed in the world, so the
-   contact point has zero velocity throughout stance and the whole foot is still
-   while flat.
+   (ankle rocker, the foot-stationary period), then the heel rises about the
+   metatarsophalangeal (MTP) joint while the toes lie flat (forefoot rocker), and
+   in pre-swing the toe segment tilts about the toe tip, the last point in contact,
+   until TO, when the tip leaves the ground (toe rocker; :mod:`.toe_rocker`). The
+   rearfoot's plantarflexion rate peaks before TO; its pitch reaches ``−θ_to`` at TO
+   and its largest plantarflexion shortly after. Each pivot is fixed in the world,
+   so the contact point has zero velocity throughout stance and the whole foot is
+   still while flat.
 4. **The foot in swing** goes from its TO pose to the next IC pose along quintic
-   Hermite curves that match position, velocity and acceleration at both ends (the
-   pose is C² except at IC, foot-flat and heel-off, where the rocker pitch is only
-   C¹), plus a lift that peaks in early swing.
+   Hermite curves that match position and velocity at both ends; at both ends the
+   floor's push starts or stops, so the acceleration steps there (C¹ joins): the swing
+   starts with the ankle released (:func:`_released`) and ends at rest on the heel.
+   After TO the rearfoot keeps its plantarflexion rate, then is stopped
+   (:func:`_post_toe_off_pitch`); a lift at mid-swing gives the toe its drawn minimum
+   clearance (:func:`_mid_swing_lift`); the MTP joint returns to neutral by the next
+   contact.
 5. **The pelvis** follows the path at the walking speed (ramped up from standing),
    sways over the stance foot, tilts, drops and rotates a few degrees per stride;
    its height is lowered where a leg could not otherwise reach its foot with the
@@ -40,9 +48,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
-from ..conventions import FloatArray, rot_z
+from ..conventions import GRAVITY_MPS2, FloatArray, rot_z
 from .motions import smoothstep
+from .toe_rocker import PreSwingParams, push_off_shape, toe_roll_shape
 
 __all__ = [
     "FootPlan",
@@ -58,13 +68,13 @@ __all__ = [
 #: ankle about 0.26 m ahead of the hip at IC and 0.40 m behind at toe-off).
 MID_STANCE_FRACTION = 0.20
 
-#: 1 / max of s³(1 − s)⁵ on [0, 1] (at s = 3/8): the swing lift peaks early in swing, where
-#: the knee is most flexed (Perry 2010); it joins toe-off with zero velocity and acceleration
-#: (a C² join: a step in acceleration would ring through the spline of the joint angles).
-_LIFT_NORM = 1.0 / ((3 / 8) ** 3 * (5 / 8) ** 5)
-
-#: Gain of the swing time warp (:func:`_swing_warp`); its bump s³(1 − s)⁵ peaks at s = 3/8.
-_WARP_GAIN = 0.0 / ((3 / 8) ** 3 * (5 / 8) ** 5)
+#: 1 / max of s⁴(1 − s)⁴ on [0, 1] (at s = ½): the swing lift adds height where the toe passes
+#: closest to the floor, at mid-swing (minimum toe clearance; Winter 1992). It joins toe-off
+#: to third order (no step in acceleration or jerk), so it does not re-accelerate the foot
+#: upwards in initial swing: there the ankle's rise decelerates at nearly −g (as measured on
+#: the real walk of ``gait/``, Vicon ankle centre: −8 … −10 m/s² from 50 to 100 ms after
+#: toe-off) and peaks early in swing, ~15 % into it.
+_LIFT_NORM = 2.0**8
 
 #: Rotation of a segment frame (x anterior, y up, z right) at zero heading in ENU.
 R_ENU_SEGMENT0 = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
@@ -84,7 +94,8 @@ class WalkDraw:
         to_pitch_rad: Foot pitch at TO, toes down (positive number), rad.
         step_width_m: Lateral distance between the two feet's ankle centres, m.
         toe_out_rad: ``(left, right)`` foot progression angle, outwards positive, rad.
-        clearance_m: Extra ankle height in early swing (the knee flexes to lift the foot), m.
+        min_toe_clearance_m: Height of the toe tip above the floor where it passes closest
+            to it, about mid-swing, m (:func:`_mid_swing_lift`).
         pelvis_drop_m: Pelvis lowering in mid-stance while walking, m.
         heading0_rad: Initial heading (walking direction from ENU east), rad.
         turn_amplitude_rad: Amplitude of the slow heading oscillation, rad.
@@ -92,6 +103,12 @@ class WalkDraw:
         sway_m: Lateral pelvis sway amplitude, m.
         pelvis_deg: Pelvis tilt, obliquity and rotation amplitudes, deg.
         hip_rotation_deg: Hip internal-rotation amplitude (both legs), deg.
+        swing_peak_fraction: The swing foot's forward velocity peaks this fraction of the
+            swing after toe-off (at minimum toe clearance, about mid-swing).
+        plantarflexion_hold_s: After toe-off the rearfoot keeps its plantarflexion rate
+            this long, s (:func:`_post_toe_off_pitch`).
+        plantarflexion_stop_s: Then its rate falls to zero within this time, s: the largest
+            plantarflexion comes ``hold + stop`` after toe-off.
     """
 
     stride_time_s: float
@@ -103,7 +120,7 @@ class WalkDraw:
     to_pitch_rad: float
     step_width_m: float
     toe_out_rad: tuple[float, float]
-    clearance_m: float
+    min_toe_clearance_m: float
     pelvis_drop_m: float
     heading0_rad: float
     turn_amplitude_rad: float
@@ -111,6 +128,9 @@ class WalkDraw:
     sway_m: float
     pelvis_deg: tuple[float, float, float]
     hip_rotation_deg: float
+    swing_peak_fraction: float
+    plantarflexion_hold_s: float
+    plantarflexion_stop_s: float
 
 
 def draw_walk(rng: np.random.Generator) -> WalkDraw:
@@ -126,7 +146,8 @@ def draw_walk(rng: np.random.Generator) -> WalkDraw:
         to_pitch_rad=np.deg2rad(u(55.0, 65.0)),
         step_width_m=u(0.08, 0.14),
         toe_out_rad=(np.deg2rad(u(2.0, 10.0)), np.deg2rad(u(2.0, 10.0))),
-        clearance_m=u(0.08, 0.11),
+        # minimum toe clearance 1.29 ± 0.45 cm (Winter 1992, healthy young adults)
+        min_toe_clearance_m=u(0.008, 0.02),
         pelvis_drop_m=u(0.003, 0.008),
         heading0_rad=u(-np.pi, np.pi),
         turn_amplitude_rad=u(0.3, 0.8),
@@ -134,7 +155,21 @@ def draw_walk(rng: np.random.Generator) -> WalkDraw:
         sway_m=u(0.015, 0.03),
         pelvis_deg=(u(2.0, 4.0), u(3.0, 5.0), u(4.0, 7.0)),
         hip_rotation_deg=u(2.0, 5.0),
+        # the foot's forward velocity peaks at minimum toe clearance (Winter 1992; Perry &
+        # Burnfield 2010, ch. 8: mid-swing)
+        swing_peak_fraction=u(0.5, 0.6),
+        **_draw_release(rng.spawn(1)[0]),
     )
+
+
+def _draw_release(rng: np.random.Generator) -> dict[str, float]:
+    """The post-toe-off rearfoot phase of :class:`WalkDraw`, from its own child stream.
+
+    A child stream (:meth:`numpy.random.Generator.spawn` does not advance ``rng``) leaves
+    every other draw of a seed, and the sensor placements drawn after the walk, as they were.
+    """
+    u = rng.uniform
+    return {"plantarflexion_hold_s": u(0.015, 0.03), "plantarflexion_stop_s": u(0.025, 0.04)}
 
 
 @dataclass(frozen=True)
@@ -160,19 +195,27 @@ class FootPlan:
         ankle_m: (N, 3) ankle centre in ENU, m.
         rotation: (N, 3, 3) foot segment frame → ENU.
         events: The foot's true events.
+        toe_tip_m: (N, 3) tip of the (sensorless) toe segment in ENU, m: on the ground and
+            still from foot-flat until toe-off, which is when it leaves the ground.
     """
 
     ankle_m: FloatArray
     rotation: FloatArray
     events: StanceEvents
+    toe_tip_m: FloatArray
 
 
 @dataclass(frozen=True)
 class _FootGeometry:
-    """Points of the foot in its segment frame (origin at the ankle centre), m."""
+    """Points of the foot in its segment frame (origin at the ankle centre), m.
+
+    ``heel`` and ``toe`` lie on the sole; ``mtp`` is the metatarsophalangeal joint centre,
+    the hinge of the (sensorless) toe segment that reaches from it to ``toe``.
+    """
 
     heel: FloatArray
     mtp: FloatArray
+    toe: FloatArray
 
 
 @dataclass(frozen=True)
@@ -187,34 +230,45 @@ class _Stance:
     toe_off: float
 
 
-def _stance_pose(st: _Stance, d: WalkDraw, foot: _FootGeometry, T: float) -> Callable[[float], tuple]:
-    """Pose ``t ↦ (ankle (3,), pitch, heading)`` of the foot over the rockers of ``st``."""
+def _stance_pose(
+    st: _Stance, d: WalkDraw, foot: _FootGeometry, T: float, pre: PreSwingParams
+) -> Callable[[float], tuple]:
+    """Pose ``t ↦ (ankle (3,), pitch, heading, MTP dorsiflexion)`` over the rockers of ``st``.
+
+    Pitch and MTP dorsiflexion in rad; the push-off follows :mod:`.toe_rocker`.
+    """
     R_flat = rot_z(st.heading) @ R_ENU_SEGMENT0
     heel_w = st.ankle + R_flat @ foot.heel
-    mtp_w = st.ankle + R_flat @ foot.mtp
+    toe_w = st.ankle + R_flat @ foot.toe
+    standing = st.ic is None
+    # largest plantarflexion after toe-off, and the pitch scale that puts the draw's
+    # to_pitch at toe-off
+    t_max = st.toe_off + pre.largest_plantarflexion_fraction * T
+    u_to = (st.toe_off - st.heel_off) / (t_max - st.heel_off)
+    pitch_max = d.to_pitch_rad / push_off_shape(u_to, standing)
+    roll = (d.stance_fraction - 0.5) * T  # pre-swing: from the other foot's contact to toe-off
+    # the toe segment's tilt at toe-off: the rearfoot's pitch less the MTP dorsiflexion
+    toe_tilt = max(d.to_pitch_rad - np.deg2rad(pre.mtp_at_toe_off_deg), 0.0)
 
-    def pose(t: float) -> tuple[FloatArray, float, float]:
+    def pose(t: float) -> tuple[FloatArray, float, float, float]:
         if st.ic is not None and t < st.foot_flat:
             v = (t - st.ic) / (st.foot_flat - st.ic)
             # the foot is most toes-up at contact (rate 0); the floor then slaps it down
             p = d.ic_pitch_rad * (1.0 - v) ** 3 * (1.0 + 3.0 * v)
-        elif t <= st.heel_off:
-            p = 0.0
-        else:
-            v = (t - st.heel_off) / (st.toe_off - st.heel_off)
-            # from standing, the heel rises with zero rate, curvature and jerk (a straight knee
-            # bends like the square root of the heel's rise)
-            f = v**4 * (4.0 - 3.0 * v) if st.ic is None else v**2
-            p = -d.to_pitch_rad * f
-        R = R_flat @ rot_z(p)
-        ankle = heel_w - R @ foot.heel if p >= 0.0 else mtp_w - R @ foot.mtp
-        return ankle, p, st.heading
+            return heel_w - R_flat @ rot_z(p) @ foot.heel, p, st.heading, 0.0
+        if t <= st.heel_off:
+            return st.ankle.copy(), 0.0, st.heading, 0.0
+        p = -pitch_max * push_off_shape((t - st.heel_off) / (t_max - st.heel_off), standing)
+        phi = -toe_tilt * toe_roll_shape((t - st.toe_off + roll) / roll, pre.toe_roll_power)  # toe pitch
+        # the toe tip stays put; the MTP joint turns about it, the rearfoot about the MTP joint
+        mtp_w = toe_w + R_flat @ rot_z(phi) @ (foot.mtp - foot.toe)
+        return mtp_w - R_flat @ rot_z(p) @ foot.mtp, p, st.heading, phi - p
 
     return pose
 
 
 def _state(f: Callable[[float], tuple], t: float, eps: float = 1e-4) -> tuple[FloatArray, ...]:
-    """Value, first and second derivative of ``f``'s (ankle, pitch, heading) at ``t``."""
+    """Value, first and second derivative of ``f``'s (ankle, pitch, heading, MTP) at ``t``."""
     vals = [np.concatenate([f(t + k * eps)[0], f(t + k * eps)[1:]]) for k in (-1, 0, 1)]
     return vals[1], (vals[2] - vals[0]) / (2 * eps), (vals[2] - 2 * vals[1] + vals[0]) / eps**2
 
@@ -295,45 +349,168 @@ def _stances(
     return out
 
 
-def _swing_warp(s: FloatArray) -> FloatArray:
-    """Front-loaded swing time for the horizontal progression (s ∈ [0, 1] → [0, 1]).
+def _bump(s: FloatArray | float, order: int = 0, k: int = 3) -> FloatArray:
+    """``s³(1 − s)ᵏ`` (order 0) or its first or second derivative in ``s``, on s ∈ [0, 1], k ≥ 3.
 
-    The foot leaves the ground accelerating hard: at a quarter of swing the ankle has
-    covered about a third of its way (the thigh already flexes while the knee is at its
-    most flexed; Perry 2010), not the tenth of a minimum-jerk profile. The warp keeps the
-    value, slope (1) and curvature (0) at both ends, so the Hermite end conditions hold.
+    Zero to second order at both ends: added to a quintic Hermite curve it keeps the end
+    conditions (position, velocity, acceleration) and spends one more degree of freedom.
     """
-    return np.asarray(s + _WARP_GAIN * s**3 * (1.0 - s) ** 5)
+    s = np.asarray(s, dtype=float)
+    r = 1.0 - s
+    if order == 0:
+        return np.asarray(s**3 * r**k)
+    if order == 1:
+        return np.asarray(3.0 * s**2 * r**k - k * s**3 * r ** (k - 1))
+    return np.asarray(6.0 * s * r**k - 6.0 * k * s**2 * r ** (k - 1) + k * (k - 1) * s**3 * r ** (k - 2))
+
+
+def _hermite_derivative(
+    ends: tuple[FloatArray, ...], D: float, s: float, order: int, eps: float = 1e-4
+) -> FloatArray:
+    """First or second derivative in ``s`` of :func:`_hermite5` (``ends``: its six ends) at ``s``."""
+    y0, v0, a0, y1, v1, a1 = ends
+    y = _hermite5(y0, v0, a0, y1, v1, a1, D, np.array([s - eps, s, s + eps]))
+    if order == 1:
+        return np.asarray((y[2] - y[0]) / (2 * eps))
+    return np.asarray((y[2] - 2 * y[1] + y[0]) / eps**2)
+
+
+def _post_toe_off_pitch(
+    p0: float, w0: float, hold_s: float, stop_s: float, tau: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """Rearfoot pitch (rad) and rate (rad/s) ``tau`` s after toe-off, over hold and stop.
+
+    The rate stays at its toe-off value ``w0`` (rad/s) for ``hold_s``, then falls to zero
+    within ``stop_s`` along ``1 − smoothstep``: the pitch is ``p0`` (rad) at toe-off and
+    ``p0 + w0 (hold + stop / 2)`` at the largest plantarflexion.
+    """
+    x = np.clip((tau - hold_s) / stop_s, 0.0, 1.0)
+    pitch = p0 + w0 * (np.minimum(tau, hold_s) + stop_s * (x - x**3 + 0.5 * x**4))
+    rate = w0 * (1.0 - 3.0 * x**2 + 2.0 * x**3)
+    return np.asarray(pitch), np.asarray(rate)
+
+
+def _swing(ends: tuple, D: float, s: FloatArray, d: WalkDraw, lift_m: float = 0.0) -> FloatArray:
+    """(len(s), 6) swing from toe-off (s = 0) to the next contact (s = 1), as in :func:`_foot_samples`.
+
+    Each coordinate is the quintic Hermite curve between the two stance states ``ends`` (value,
+    rate and acceleration at toe-off and contact, six arrays of (6,)), except the rearfoot
+    pitch. The ankle's progression (along the horizontal line from toe-off to contact)
+    spends a sextic's freedom (:func:`_bump`) on being fastest at ``d.swing_peak_fraction``
+    of the swing, mid-swing, where the toe passes closest to the floor (peak forward foot
+    velocity at minimum toe clearance: Winter 1992, "Foot trajectory in human gait: a
+    precise and multifactorial motor control task", Phys. Ther. 72(1); Perry & Burnfield
+    2010, ch. 8). Then the lift ``lift_m`` (:data:`_LIFT_NORM`, :func:`_mid_swing_lift`)
+    raises the ankle at mid-swing.
+
+    The rearfoot pitch keeps its toe-off rate for ``d.plantarflexion_hold_s`` and is then
+    stopped within ``d.plantarflexion_stop_s`` (:func:`_post_toe_off_pitch`): the foot's
+    plantarflexion is not braked until the toe has left, and then abruptly, by the
+    dorsiflexors' burst at toe-off (tibialis anterior: onset in pre-swing, first peak in
+    initial swing; Perry & Burnfield 2010, ch. 7, and Winter 2009, *Biomechanics and Motor
+    Control of Human Movement*, app. A: largest plantarflexion a few per cent of the cycle
+    after toe-off). From that largest plantarflexion (rate and angular acceleration zero)
+    a quintic Hermite curve dorsiflexes the foot to its contact pitch.
+    """
+    y0, v0, a0, y1, v1, a1 = ends
+    y = _hermite5(y0, v0, a0, y1, v1, a1, D, s)
+    sp = d.swing_peak_fraction
+    u = np.asarray(y1[:2] - y0[:2], dtype=float)
+    u = u / max(float(np.linalg.norm(u)), 1e-9)
+    curv = float(u @ _hermite_derivative(ends, D, sp, 2)[:2])
+    y[:, :2] += (-curv / float(_bump(sp, 2))) * _bump(s)[:, None] * u
+    y[:, 2] += lift_m * _LIFT_NORM * s**4 * (1.0 - s) ** 4
+    hold, stop = d.plantarflexion_hold_s, d.plantarflexion_stop_s
+    tau = s * D
+    p, _ = _post_toe_off_pitch(float(y0[3]), float(v0[3]), hold, stop, tau)
+    t_max = hold + stop
+    late = tau > t_max
+    p_max = float(_post_toe_off_pitch(float(y0[3]), float(v0[3]), hold, stop, np.array([t_max]))[0][0])
+    zero = np.zeros(1)
+    p[late] = _hermite5(
+        np.array([p_max]), zero, zero, y1[3:4], v1[3:4], a1[3:4], D - t_max, (tau[late] - t_max) / (D - t_max)
+    )[:, 0]
+    y[:, 3] = p
+    return y
+
+
+def _released(ends: tuple, D: float, d: WalkDraw, foot: _FootGeometry) -> tuple:
+    """``ends`` of :func:`_swing` with the ankle's acceleration at toe-off that of a released foot.
+
+    Toe-off is a C¹ join, as contact is: the floor's push on the toe ends there, a step in
+    the foot's acceleration (on the real walk of ``gait/`` the foot IMU's specific force
+    falls from ~20 to ~10 m/s² within 20 ms of toe-off). The ankle starts its swing with
+    gravity's acceleration alone, no forward one, unless that would take the toe tip, which
+    leaves the floor at rest, back into it: then the ankle falls only as fast as leaves the
+    tip's vertical acceleration zero.
+    """
+    y0, v0, a0, y1, v1, a1 = ends
+    a0 = a0.copy()
+    a0[:3] = (0.0, 0.0, -GRAVITY_MPS2)
+    e = 1e-4
+    tip = _toe_tip(_swing((y0, v0, a0, y1, v1, a1), D, np.array([0.0, e, 2 * e]), d), foot)[:, 2]
+    tip_acc = (tip[2] - 2 * tip[1] + tip[0]) / (e * D) ** 2
+    a0[2] -= min(tip_acc, 0.0)
+    return y0, v0, a0, y1, v1, a1
+
+
+def _mid_swing_lift(ends: tuple, D: float, d: WalkDraw, foot: _FootGeometry) -> float:
+    """The lift (m) of :func:`_swing` that puts the toe tip ``d.min_toe_clearance_m`` above the floor.
+
+    The minimum is taken over the middle of the swing (s ∈ [0.2, 0.8]), where the toe passes
+    closest to the floor (Winter 1992); the floor is the toe tip's height at toe-off. The
+    clearance grows with the lift, so one root search finds it.
+    """
+    s = np.linspace(0.0, 1.0, 401)
+    mid = (s >= 0.2) & (s <= 0.8)
+    y = _swing(ends, D, s, d)
+    floor = float(_toe_tip(ends[0][None, :], foot)[0, 2])
+    tip = _toe_tip(y, foot)[:, 2] - floor
+    bump = _LIFT_NORM * s**4 * (1.0 - s) ** 4
+
+    def excess(lift: float) -> float:
+        return float(np.min(tip[mid] + lift * bump[mid])) - d.min_toe_clearance_m
+
+    return float(brentq(excess, -0.2, 0.4))
 
 
 def _foot_samples(
-    stances: list[_Stance], d: WalkDraw, foot: _FootGeometry, t: FloatArray
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Ankle (N, 3), pitch (N,) and heading (N,) of one foot over its stances and swings."""
+    stances: list[_Stance], d: WalkDraw, foot: _FootGeometry, t: FloatArray, pre: PreSwingParams
+) -> FloatArray:
+    """(N, 6) ankle (3), pitch, heading and MTP dorsiflexion of one foot over its stances and swings.
+
+    In swing the MTP joint relaxes to neutral by the next contact (one more Hermite curve).
+    """
     T = d.stride_time_s
-    out = np.full((t.size, 5), np.nan)
+    out = np.full((t.size, 6), np.nan)
     for j, st in enumerate(stances):
-        pose = _stance_pose(st, d, foot, T)
+        pose = _stance_pose(st, d, foot, T, pre)
         start = -np.inf if st.ic is None else st.ic
         inside = (t >= start) & (t <= st.toe_off)
         for k in np.flatnonzero(inside):
-            a, p, h = pose(float(t[k]))
-            out[k] = [*a, p, h]
+            a, p, h, m = pose(float(t[k]))
+            out[k] = [*a, p, h, m]
         if j + 1 == len(stances):
             break
         nxt = stances[j + 1]
         assert nxt.ic is not None
         y0, v0, a0 = _state(pose, st.toe_off)
-        y1, v1, _ = _state(_stance_pose(nxt, d, foot, T), nxt.ic)
+        y1, v1, _ = _state(_stance_pose(nxt, d, foot, T, pre), nxt.ic)
         a1 = np.zeros_like(v1)  # contact is a C¹ join: the floor's push is a step in acceleration
         swing = (t > st.toe_off) & (t < nxt.ic)
         D = nxt.ic - st.toe_off
         s = (t[swing] - st.toe_off) / D
-        y = _hermite5(y0, v0, a0, y1, v1, a1, D, s)
-        y[:, :2] = _hermite5(y0[:2], v0[:2], a0[:2], y1[:2], v1[:2], a1[:2], D, _swing_warp(s))
-        y[:, 2] += d.clearance_m * _LIFT_NORM * s**3 * (1.0 - s) ** 5
+        ends = _released((y0, v0, a0, y1, v1, a1), D, d, foot)
+        y = _swing(ends, D, s, d, _mid_swing_lift(ends, D, d, foot))
         out[swing] = y
-    return out[:, :3], out[:, 3], out[:, 4]
+    return out
+
+
+def _toe_tip(samples: FloatArray, foot: _FootGeometry) -> FloatArray:
+    """(N, 3) toe tip in ENU, m, from the (N, 6) samples of :func:`_foot_samples`."""
+    R_rear = rot_z(samples[:, 4]) @ R_ENU_SEGMENT0 @ rot_z(samples[:, 3])
+    R_toe = rot_z(samples[:, 4]) @ R_ENU_SEGMENT0 @ rot_z(samples[:, 3] + samples[:, 5])
+    return np.asarray(samples[:, :3] + R_rear @ foot.mtp + R_toe @ (foot.toe - foot.mtp))
 
 
 def plan_feet(
@@ -343,7 +520,8 @@ def plan_feet(
     t0: float,
     path: tuple[FloatArray, FloatArray],
     stand_ankle: FloatArray,
-    foot: tuple[FloatArray, FloatArray],
+    foot: tuple[FloatArray, FloatArray, FloatArray],
+    pre: PreSwingParams | None = None,
 ) -> FootPlan:
     """One foot's planned poses and events (see the module docstring, steps 2–4).
 
@@ -354,12 +532,14 @@ def plan_feet(
         t0: Time the walk starts (the right heel rises), s.
         path: Pelvis heading (N,), rad, and path point (N, 2), m.
         stand_ankle: (3,) the ankle centre while standing, ENU, m.
-        foot: Heel and metatarsal-head points (3,) in the foot segment frame, m.
+        foot: Heel, MTP joint centre and toe tip (3,) in the foot segment frame, m.
+        pre: Push-off geometry and timing (defaults: :class:`PreSwingParams`).
     """
-    geom = _FootGeometry(np.asarray(foot[0], float), np.asarray(foot[1], float))
+    pre = PreSwingParams() if pre is None else pre
+    geom = _FootGeometry(*(np.asarray(p, float) for p in foot))
     stances = _stances(side, d, t, t0, path, stand_ankle)
-    ankle, pitch, heading = _foot_samples(stances, d, geom, t)
-    R = rot_z(heading) @ R_ENU_SEGMENT0 @ rot_z(pitch)
+    y = _foot_samples(stances, d, geom, t, pre)
+    R = rot_z(y[:, 4]) @ R_ENU_SEGMENT0 @ rot_z(y[:, 3])
     walking = [st for st in stances if st.ic is not None]
     end = t[-1]
     events = StanceEvents(
@@ -369,4 +549,4 @@ def plan_feet(
             -1, 2
         ),
     )
-    return FootPlan(ankle, R, events)
+    return FootPlan(y[:, :3].copy(), R, events, _toe_tip(y, geom))

@@ -5,7 +5,8 @@ estimators in :mod:`lowerlimb.gait`, with the definitions of issue 11 and
 docs/formats.md ("Two legs"):
 
 - stride k of a leg: IC_k → IC_{k+1}; stride time = IC_{k+1} − IC_k;
-- stance % = 100 (TO − IC_k) / stride time, TO the leg's toe-off inside the stride;
+- stance % = 100 (TO − IC_k) / stride time, TO the leg's toe-off inside the stride (the
+  instant the toe tip, the foot's last point in contact, leaves the floor; :mod:`.toe_rocker`);
 - step time = IC_k − the other leg's last IC before it;
 - double support % = 100 (initial + terminal double support) / stride time:
   initial = the other leg's first TO after IC_k − IC_k; terminal = the leg's TO −
