@@ -66,6 +66,7 @@ from lowerlimb.calibration._rotation import low_rotation_messages
 from lowerlimb.calibration._solve import LsqProblem, solve_global, solve_local, subsample_step
 from lowerlimb.calibration.excitation import ExcitationReport, issue_warnings, jacobian_report
 from lowerlimb.calibration.geometry import basis_with_first_axis
+from lowerlimb.calibration.hinge_band import axes_disagreement_deg, band_limited_gyros
 from lowerlimb.calibration.joint_center import fit_spherical
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import HingeAxisCalibration, SphericalJointCalibration
@@ -497,10 +498,32 @@ def fit_hinge_axis(
 
     jp, jc, iterations, converged, solver = _solve_axes(wpf, wcf, method, options, contested)
     messages: list[str] = []
+    # the sign rules read the gyros the kept axes were fitted on (hinge_band module docstring)
+    ws = (wp, wc)
+    band = band_limited_gyros(wp, wc, rate_hz, options.hinge_band_hz)
+    if band is not None:
+        wpb, wcb = band
+
+        def contested_band(a: FloatArray, b: FloatArray) -> bool:
+            return _sign_cues_disagree(a, b, wpb, wcb, rate_hz, n_still, options)
+
+        bp, bc, b_it, b_conv, b_solver = _solve_axes(
+            *_with_gravity(wpb, wcb, gravity, n_still, options), method, options, contested_band
+        )
+        iterations += b_it
+        apart = axes_disagreement_deg((jp, jc), (bp, bc))
+        if apart > options.hinge_band_max_disagreement_deg:
+            jp, jc, converged, ws = bp, bc, b_conv, band
+            solver = f"{b_solver} (below {options.hinge_band_hz:g} Hz)"
+            messages.append(
+                f"{joint}: the hinge fit on all frequencies and the one below {options.hinge_band_hz:g} Hz "
+                f"disagree by {apart:.0f}°: above it the {parent_sensor} and {child_sensor} sensors do not "
+                f"turn as one hinge (soft tissue); kept the axes of the joint's own motion band"
+            )
     jc, coherence, corr = _relative_sign(
-        jp, jc, wp, wc, rate_hz, acc_check, joint, child_sensor, messages, n_still=n_still, options=options
+        jp, jc, *ws, rate_hz, acc_check, joint, child_sensor, messages, n_still=n_still, options=options
     )
-    margin = flexion_sign_margin(jp, jc, wp, wc, rate_hz, n_still)
+    margin = flexion_sign_margin(jp, jc, *ws, rate_hz, n_still)
     if margin < 0:
         jp, jc = -jp, -jc
     r, report, std_deg = _axis_diagnostics(

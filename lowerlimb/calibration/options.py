@@ -79,6 +79,13 @@ class CalibrationOptions:
         hinge_gravity_rate_rps: weight of the still-period gravity rows of the hinge
             fit, as the angular rate (rad/s) of the pseudo-samples, one per still
             sample (0: off; see :func:`~lowerlimb.calibration.hinge_axis.fit_hinge_axis`).
+        hinge_band_hz: upper edge of a hinge's motion band, Hz: the hinge axes are also fitted
+            on gyros low-passed there (``None``: not), and those are kept when the two fits
+            disagree (:mod:`~lowerlimb.calibration.hinge_band`; a walking knee moves below a
+            few hertz, soft-tissue wobble lies at 7–20 Hz).
+        hinge_band_max_disagreement_deg: largest angle between the full-band and the
+            band-limited axes (either sensor) at which the full-band ones are kept, deg (rigid
+            simulated walks: 0.3–1°; with soft-tissue artefacts: up to 40°).
         hinge_starts: number of starting axis pairs of the hinge problem (the
             residual has sign symmetries and local minima).
         swarm_samples: the swarms evaluate their population cost on at most this
@@ -204,6 +211,8 @@ class CalibrationOptions:
     max_iter: int = 50
     tol: float = 1e-7
     hinge_gravity_rate_rps: float = 0.0
+    hinge_band_hz: float | None = 4.0
+    hinge_band_max_disagreement_deg: float = 5.0
     sign_one_sided_margin: float = 0.15
     hinge_starts: int = 3
     swarm_samples: int = 1500
@@ -255,9 +264,12 @@ class CalibrationOptions:
             "knee_line_std_m",
             "knee_line_min_data_std_m",
             "knee_line_max_mismatch_deg",
+            "hinge_band_max_disagreement_deg",
         ):
             if getattr(self, name) <= 0:
                 raise InputError(f"{name} must be > 0, got {getattr(self, name)}")
+        if self.hinge_band_hz is not None and not self.hinge_band_hz > 0:
+            raise InputError(f"hinge_band_hz must be > 0 Hz or None, got {self.hinge_band_hz}")
         if not 0.0 < self.noise_correction_max_fraction < 1.0:
             raise InputError(
                 f"noise_correction_max_fraction must be in (0, 1), got {self.noise_correction_max_fraction}"
