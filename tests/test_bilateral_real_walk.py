@@ -43,19 +43,14 @@ def test_real_walk_two_legs():
     assert res["hips"]["single_leg_spacing_mm"] > res["hips"]["spacing_mm"]
 
 
-def test_swapped_legs_of_the_real_walk_are_refused():
-    """Exchanging the left_* and right_* columns is caught from the pair of hips (one line, the fix)."""
-    import warnings
-
-    from lowerlimb.bilateral import process_bilateral_trial
-    from lowerlimb.bilateral.process import BilateralSideError
+def _real_walk_and_swapped():
+    """The real walk as a two-leg trial, and the same with its left_* and right_* columns exchanged."""
     from lowerlimb.io import load_xsens
     from lowerlimb.io.bilateral_trial import BilateralTrial
 
     assert DATA is not None
     mod = _benchmark()
     rec = load_xsens(mod.raw_dir(DATA), mod.IDS)
-    trial = BilateralTrial(rec.time_s, rec.acc, rec.gyr, rec.mag)
 
     def swap(d: dict) -> dict:
         out = {"pelvis": d["pelvis"]}
@@ -63,9 +58,21 @@ def test_swapped_legs_of_the_real_walk_are_refused():
             out[f"left_{seg}"], out[f"right_{seg}"] = d[f"right_{seg}"], d[f"left_{seg}"]
         return out
 
-    swapped = BilateralTrial(
-        trial.time_s, swap(trial.acc), swap(trial.gyr), swap(trial.mag) if trial.mag is not None else None
+    mag = swap(rec.mag) if rec.mag is not None else None
+    return (
+        BilateralTrial(rec.time_s, rec.acc, rec.gyr, rec.mag),
+        BilateralTrial(rec.time_s, swap(rec.acc), swap(rec.gyr), mag),
     )
+
+
+def test_swapped_legs_of_the_real_walk_are_refused():
+    """Exchanging the left_* and right_* columns is caught from the pair of hips (one line, the fix)."""
+    import warnings
+
+    from lowerlimb.bilateral import process_bilateral_trial
+    from lowerlimb.bilateral.process import BilateralSideError
+
+    trial, swapped = _real_walk_and_swapped()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         with pytest.raises(BilateralSideError, match="look swapped.*exchange the left_\\* and right_\\*"):
@@ -79,22 +86,8 @@ def test_swapped_looking_hips_are_kept_when_the_pelvis_turn_confirms_the_sides(m
     the cue made to confirm the labels it was given)."""
     from lowerlimb.bilateral import process
     from lowerlimb.calibration.plausibility import SideEvidenceWarning
-    from lowerlimb.io import load_xsens
-    from lowerlimb.io.bilateral_trial import BilateralTrial
 
-    assert DATA is not None
-    mod = _benchmark()
-    rec = load_xsens(mod.raw_dir(DATA), mod.IDS)
-
-    def swap(d: dict) -> dict:
-        out = {"pelvis": d["pelvis"]}
-        for seg in ("thigh", "shank", "foot"):
-            out[f"left_{seg}"], out[f"right_{seg}"] = d[f"right_{seg}"], d[f"left_{seg}"]
-        return out
-
-    swapped = BilateralTrial(
-        rec.time_s, swap(rec.acc), swap(rec.gyr), swap(rec.mag) if rec.mag is not None else None
-    )
+    _, swapped = _real_walk_and_swapped()
     monkeypatch.setattr(process, "_pelvis_turn", lambda leg: -0.3 if leg.trial.side == "left" else 0.3)
     with pytest.warns(SideEvidenceWarning, match="pelvis turns with each leg"):
         process.process_bilateral_trial(swapped)
