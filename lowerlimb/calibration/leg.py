@@ -350,7 +350,8 @@ def _knee_line(
     probes = []
     if abs(mismatch) <= max_mismatch:
         cap = caps.get(f"{pk}-{ck}")
-        cuts = [None] if cap is None else [None, *(f * cap for f in options.knee_line_probe_factors)]
+        # without a cap the main fit already is the uncapped one: nothing to probe
+        cuts = [] if cap is None else [None, *(f * cap for f in options.knee_line_probe_factors)]
         for hz in cuts:
             data = joint_signals(acc, gyr, sig, pk, ck, options, None, hz, own_band=False)
             probes.append(_knee_probe(knee, data, method, options))
@@ -387,9 +388,15 @@ def _probe_cutoffs(
 
     def refit(name: str, data: SphericalData, o: CalibrationOptions) -> SphericalJointCalibration:
         s, t, pr, kp = setup[name]
-        m = method if method in ("casadi", "gn") else "casadi"
         return fit_spherical(
-            data, method=m, options=o, joint=name, parent_sensor=s, child_sensor=t, prior=pr, keep=kp
+            data,
+            method=_local(method),
+            options=o,
+            joint=name,
+            parent_sensor=s,
+            child_sensor=t,
+            prior=pr,
+            keep=kp,
         )
 
     pairs = {k: (v[0], v[1]) for k, v in setup.items()}
@@ -401,6 +408,11 @@ def _with_warning(knee: HingeJointCalibration, message: str) -> HingeJointCalibr
     """The knee with ``message`` issued and recorded among its centre's warnings."""
     issue_warnings([message], stacklevel=4)
     return replace(knee, center=replace(knee.center, warnings=[*knee.center.warnings, message]))
+
+
+def _local(method: str) -> str:
+    """The local solver a probe refit uses: the method itself, or CasADi after a swarm."""
+    return method if method in ("casadi", "gn") else "casadi"
 
 
 def _knee_probe(
@@ -415,7 +427,7 @@ def _knee_probe(
         warnings.simplefilter("ignore")
         center = fit_spherical(
             data,
-            method=method if method in ("casadi", "gn") else "casadi",
+            method=_local(method),
             options=options,
             joint="knee",
             gauge_axes=(knee.axis_in_parent_sensor, knee.axis_in_child_sensor),
