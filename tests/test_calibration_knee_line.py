@@ -129,6 +129,8 @@ def test_options_are_checked() -> None:
     for name in ("knee_line_std_m", "knee_line_min_data_std_m"):
         with pytest.raises(InputError, match=name):
             CalibrationOptions(**{name: 0.0})
+    with pytest.raises(InputError, match="knee_line_probe_factors"):
+        CalibrationOptions(knee_line_probe_factors=(1.5, -1.0))
 
 
 @pytest.fixture(scope="module")

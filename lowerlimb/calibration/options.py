@@ -286,6 +286,8 @@ class CalibrationOptions:
             raise InputError(f"impact_joints may hold 'hip' and 'ankle', got {sorted(unknown)}")
         if not 0.0 <= self.impact_max_excluded < 1.0:
             raise InputError(f"impact_max_excluded must be in [0, 1), got {self.impact_max_excluded}")
+        if not all(f > 0 for f in self.knee_line_probe_factors):
+            raise InputError(f"knee_line_probe_factors must all be > 0, got {self.knee_line_probe_factors}")
         if not self.cutoff_probe_factor > 1.0:
             raise InputError(f"cutoff_probe_factor must be > 1, got {self.cutoff_probe_factor}")
         if self.center_bound_m <= 0:
