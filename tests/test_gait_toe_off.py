@@ -12,26 +12,28 @@ RATE = 100.0
 def _push_off(
     n: int, t_min: float, t_off: float, t_zero: float, drop: float
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Foot rate with its push-off minimum at ``t_min`` and zero at ``t_zero``; |f| peaking at ``t_off``.
+    """Foot rate with its push-off minimum at ``t_min`` and zero at ``t_zero``; |f| unloading at ``t_off``.
 
-    The specific force rises through push-off to a peak at ``t_off`` and then falls by
-    ``drop`` m/s² within 30 ms (the toe leaving), before the swing's own rise.
+    The specific force rises through push-off and then falls by ``drop`` m/s² in a
+    smooth step, half-way at ``t_off`` (the toe leaving); its peak comes 10-20 ms before.
     """
     t = np.arange(n) / RATE
     om = np.where(t < t_min, -6.0 * np.exp(-0.5 * ((t - t_min) / 0.08) ** 2), 0.0)
     om += np.where(t >= t_min, -6.0 + 6.0 * np.clip((t - t_min) / (t_zero - t_min), 0.0, 2.0), 0.0)
-    f = 10.0 + (drop + 4.0) * np.exp(-0.5 * ((t - t_off) / 0.04) ** 2)
-    f -= (drop + 4.0) * np.exp(-0.5 * ((t - t_off - 0.03) / 0.012) ** 2) * (t > t_off)
+    step = 0.5 * (1.0 - np.tanh((t - t_off) / 0.01))
+    f = 10.0 + drop * step * np.exp(-0.5 * ((t - t_off) / 0.06) ** 2)
     acc = np.zeros((n, 3))
     acc[:, 2] = f
     return om, acc
 
 
-def test_toe_off_is_the_specific_force_peak_before_the_unloading():
-    om, acc = _push_off(300, t_min=1.00, t_off=1.053, t_zero=1.12, drop=12.0)
+def test_toe_off_is_half_way_down_the_unloading_not_at_its_peak():
+    om, acc = _push_off(300, t_min=1.00, t_off=1.063, t_zero=1.12, drop=12.0)
     (k,) = forefoot_unloading(om, acc, [(60, 200)], RATE, GaitParams())
+    peak = np.argmax(acc[100:112, 2]) + 100
     assert k is not None
-    assert abs(k / RATE - 1.053) < 0.006
+    assert abs(k / RATE - 1.063) < 0.003
+    assert k - peak > 0.8  # the peak, the earlier definition, is more than 8 ms early
 
 
 def test_no_unloading_no_push_off_gives_none():

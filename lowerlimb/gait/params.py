@@ -48,8 +48,8 @@ class GaitParams:
             6 ms at 40 Hz; benchmarks/gait.py), Hz. Unchanged above Nyquist.
         ic_refine_s: Half-width of the window, around the coarse crossing, searched for the
             re-timed one, s.
-        unloading_lowpass_hz: With a foot IMU, toe-off is the last peak of the foot's
-            specific-force magnitude before the forefoot unloads
+        unloading_lowpass_hz: With a foot IMU, toe-off is the half-way point of the fall
+            of the foot's specific-force magnitude as the forefoot unloads
             (:mod:`lowerlimb.gait.toe_off`); the magnitude is low-passed at this cut-off
             first (unchanged at or below 100 Hz sampling), Hz.
         unloading_min_mps2: The unloading counts only when the magnitude falls at least
