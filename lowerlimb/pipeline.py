@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from .calibration import LegCalibration, calibrate_leg
+from .calibration.clock_sync import synchronise
 from .calibration.options import CalibrationOptions
 from .calibration.plausibility import check_side, pelvis_turn_side_cue
 from .conventions import SENSORS, FloatArray, quat_from_matrix
@@ -306,6 +307,11 @@ def process_trial(
     # the subject's stature scales the anthropometric prior of the calibration
     cal_options = replace(calibration_options or CalibrationOptions(), prior_stature_m=height_m)
     calib = calibrate_joints(trial, method, still, calibration, cal_options)
+    if calibration is None and cal_options.clock_sync:
+        trial, calib, offsets = synchronise(
+            trial, calib, lambda t: calibrate_joints(t, method, still, None, cal_options), cal_options
+        )
+        calib = replace(calib, clock_offsets=offsets.to_dict())
     up = {s: trial.acc[s][reference].mean(axis=0) for s in ("thigh", "shank")}
     calib = with_plausible_lengths(calib, up, height_m=height_m)
     clock.stop("joint calibration", "" if calibration is None else "reused, not estimated")

@@ -83,6 +83,8 @@ class LegCalibration:
             of each joint's sensor pair put on its cut-offs (``None``: no cap).
         priors: ``{"hip"|"ankle": {"on", "mean", "std_m"}}`` the anthropometric
             priors used (:mod:`~lowerlimb.calibration.segment_prior`; empty: none).
+        clock_offsets: the sensors' clock offsets found and the re-timing applied
+            (:meth:`~lowerlimb.calibration.clock_sync.ClockOffsets.to_dict`; empty: not estimated).
     """
 
     side: str
@@ -96,6 +98,7 @@ class LegCalibration:
     cutoff_hz: dict[str, float | None] = field(default_factory=dict)
     rigid_band_cap_hz: dict[str, float | None] = field(default_factory=dict)
     priors: dict[str, dict[str, Any]] = field(default_factory=dict)
+    clock_offsets: dict[str, Any] = field(default_factory=dict)
 
     @property
     def joints(self) -> dict[str, SphericalJointCalibration | HingeJointCalibration]:
@@ -122,6 +125,7 @@ class LegCalibration:
                 k: (None if v is None else float(v)) for k, v in self.rigid_band_cap_hz.items()
             },
             "anthropometric_prior": dict(self.priors),
+            "clock_offsets": dict(self.clock_offsets),
             "warnings": self.warnings,
         }
 
@@ -151,6 +155,7 @@ class LegCalibration:
                 cutoff_hz=dict(d.get("prefilter_cutoff_hz", {})),
                 rigid_band_cap_hz=dict(d.get("rigid_band_cap_hz", {})),
                 priors=dict(d.get("anthropometric_prior", {})),
+                clock_offsets=dict(d.get("clock_offsets", {})),
             )
         except KeyError as e:
             raise InputError(f"calibration document lacks the key {e.args[0]!r}") from None

@@ -189,6 +189,17 @@ class CalibrationOptions:
             widened and record how far each centre moves
             (:mod:`~lowerlimb.calibration.cutoff_probe`; a record, no estimate changes).
         cutoff_probe_factor: the widening factor (> 1).
+        clock_sync: estimate the sensors' clock offsets from the joints after a first
+            calibration and, when they explain the joints' mismatch, re-time the signals
+            and calibrate again (:mod:`~lowerlimb.calibration.clock_sync`; applied by
+            :func:`lowerlimb.pipeline.process_trial`).
+        clock_max_offset_s: largest offset searched per joint, s.
+        clock_min_explained: a joint's lag counts when it removes at least this share of
+            the mean squared mismatch of the two sensors' acceleration norms at the joint
+            (0-1; a synchronised real walk: 0.01-0.18, a 10 ms offset: 0.5-0.7).
+        clock_split_tol_s: ... and when the lags of the trial's two halves agree within this, s.
+        clock_lowpass_hz: low-pass of those norms before they are compared, Hz.
+        clock_passes: at most this many estimate-and-recalibrate passes.
     """
 
     prefilter: bool = True
@@ -252,6 +263,12 @@ class CalibrationOptions:
     knee_line_max_mismatch_deg: float = 5.0
     cutoff_probe: bool = True
     cutoff_probe_factor: float = 1.5
+    clock_sync: bool = True
+    clock_max_offset_s: float = 0.06
+    clock_min_explained: float = 0.3
+    clock_split_tol_s: float = 0.005
+    clock_lowpass_hz: float = 10.0
+    clock_passes: int = 3
 
     def __post_init__(self) -> None:
         if self.angacc_window_s <= 0:
@@ -290,6 +307,19 @@ class CalibrationOptions:
             raise InputError(f"knee_line_probe_factors must all be > 0, got {self.knee_line_probe_factors}")
         if not self.cutoff_probe_factor > 1.0:
             raise InputError(f"cutoff_probe_factor must be > 1, got {self.cutoff_probe_factor}")
+        if not 0.0 < self.clock_min_explained <= 1.0:
+            raise InputError(f"clock_min_explained must be in (0, 1], got {self.clock_min_explained}")
+        if not (
+            self.clock_max_offset_s > 0
+            and self.clock_lowpass_hz > 0
+            and self.clock_split_tol_s > 0
+            and self.clock_passes >= 1
+        ):
+            raise InputError(
+                f"clock_max_offset_s, clock_lowpass_hz and clock_split_tol_s must be > 0 and "
+                f"clock_passes >= 1, got {self.clock_max_offset_s}, {self.clock_lowpass_hz}, "
+                f"{self.clock_split_tol_s}, {self.clock_passes}"
+            )
         if self.center_bound_m <= 0:
             raise InputError(f"center_bound_m must be > 0 m, got {self.center_bound_m}")
         for name in (

@@ -1,0 +1,335 @@
+"""Clock offsets between the sensors of one leg, from the joint constraints.
+
+The calibration assumes the four sensors were sampled at the same instants. Sensors
+of one vendor's wireless network are (Xsens Awinda: within microseconds); separate
+loggers aligned afterwards on a tap, or a network with buffered clocks, are often
+tens of ms apart. At walking speed a 10 ms offset changes a joint centre's
+acceleration by a few tenths of m/s² (its jerk times the offset), more than the fit's
+residual, and the joint centres go wrong by decimetres (benchmarks/clock_sync.py).
+
+The joints measure the offsets. A point on a joint's axis or at its centre has one
+acceleration, seen from either sensor (Hu et al. 2021 eq. 1-3); so does its norm,
+which needs no orientation:
+
+``‖a_p(t)‖ = ‖a_c(t + τ)‖``, ``a = f + ω × (ω × c) + α × c``,
+
+with ``τ`` the child sensor's lag behind the parent. Given a first calibration, ``τ``
+of each joint minimises the mean squared difference of the two norms, both low-passed
+(:attr:`CalibrationOptions.clock_lowpass_hz`), over ``±clock_max_offset_s`` on a 1 ms
+grid refined by a parabola, away from impacts (the samples the joint-centre fits leave
+out, :func:`~lowerlimb.calibration.impact_window.impact_keep_mask`: a heel strike rings
+differently in the shank and the foot sensor, and a wrong lag lines the rings up).
+Offsets add down the chain (pelvis → thigh → shank → foot).
+
+A first calibration is wrong where the clocks are, so the first lags fall short; the
+signals are re-timed, calibrated again and searched again (``clock_passes``). On a
+synchronised real walk (``gait/``, Xsens) the search still finds lags of 2-25 ms at
+the hip and knee, but they explain 0-18 % of the norm mismatch (soft tissue and
+impacts, not timing), while offsets of 10-30 ms on the simulator explain 40-80 % of it
+where the sensors are rigid and 0-80 % under its real-walk artefacts. A lag counts only when it explains at
+least :attr:`CalibrationOptions.clock_min_explained` of the mismatch and the two halves
+of the trial give the same lag within :attr:`CalibrationOptions.clock_split_tol_s` (a
+clock offset is constant over a trial; on the real walk the spurious hip and knee lags
+of the two halves were 10-34 ms apart); otherwise the sensors are taken as synchronised.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any, Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.signal import butter, sosfiltfilt
+
+from ..constraints.angular_acceleration import angular_acceleration
+from ..conventions import FloatArray
+from .impact_window import impact_keep_mask
+
+if TYPE_CHECKING:
+    from .leg import LegCalibration
+    from .options import CalibrationOptions
+
+
+class _Signals(Protocol):
+    acc: dict[str, FloatArray]
+    gyr: dict[str, FloatArray]
+
+    @property
+    def rate_hz(self) -> float: ...
+
+
+__all__ = [
+    "ClockOffsetWarning",
+    "ClockOffsets",
+    "JointLag",
+    "estimate_clock_offsets",
+    "retime",
+    "synchronise",
+]
+
+#: (joint, parent sensor, child sensor), down the chain.
+_CHAIN = (("hip", "pelvis", "thigh"), ("knee", "thigh", "shank"), ("ankle", "shank", "foot"))
+#: Step of the lag grid, s.
+_GRID_S = 0.001
+
+
+@dataclass(frozen=True)
+class JointLag:
+    """The lag found at one joint.
+
+    Attributes:
+        lag_s: the child sensor's lag behind the parent: ``a_c(t + lag) ≈ a_p(t)``, s.
+        explained: share of the mean squared norm mismatch at zero lag that the lag
+            removes (0-1).
+        split_s: difference of the lags found on the first and the second half of the
+            trial, s (a clock offset is constant; a lag that lines up soft-tissue or
+            impact features need not be).
+        counted: the lag explains enough (:attr:`CalibrationOptions.clock_min_explained`)
+            and the halves agree (:attr:`CalibrationOptions.clock_split_tol_s`).
+    """
+
+    lag_s: float
+    explained: float
+    split_s: float
+    counted: bool
+
+
+@dataclass(frozen=True)
+class ClockOffsets:
+    """Clock offsets of the leg's sensors relative to the pelvis sensor.
+
+    Attributes:
+        joints: ``{joint: JointLag}`` of the last pass.
+        shift_s: ``{sensor: s}`` applied re-timing: the corrected signal at ``t`` is the
+            recorded one at ``t + shift`` (pelvis 0; the sum of the counted lags above it,
+            over all passes).
+        passes: number of estimation passes run.
+    """
+
+    joints: dict[str, JointLag] = field(default_factory=dict)
+    shift_s: dict[str, float] = field(default_factory=dict)
+    passes: int = 0
+
+    @property
+    def applied(self) -> bool:
+        """Whether any sensor was re-timed."""
+        return any(v != 0.0 for v in self.shift_s.values())
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready record (calibration.json ``clock_offsets``)."""
+        return {
+            "shift_s": {k: float(v) for k, v in self.shift_s.items()},
+            "joints": {
+                k: {
+                    "lag_s": float(v.lag_s),
+                    "explained": float(v.explained),
+                    "split_s": float(v.split_s),
+                    "counted": bool(v.counted),
+                }
+                for k, v in self.joints.items()
+            },
+            "passes": int(self.passes),
+        }
+
+
+def _lowpass(x: FloatArray, cutoff_hz: float, rate_hz: float) -> FloatArray:
+    if cutoff_hz >= 0.5 * rate_hz or x.shape[0] < 16:
+        return x
+    return np.asarray(sosfiltfilt(butter(2, cutoff_hz, fs=rate_hz, output="sos"), x, axis=0))
+
+
+def point_acceleration_norm(
+    acc: FloatArray, gyr: FloatArray, point: FloatArray, rate_hz: float
+) -> FloatArray:
+    """‖f + ω × (ω × c) + α × c‖ (N,), m/s²: the specific force's norm at ``point`` (3,) m, sensor frame."""
+    alpha = angular_acceleration(gyr, rate_hz)
+    c = np.asarray(point, dtype=float)
+    return np.asarray(np.linalg.norm(acc + np.cross(gyr, np.cross(gyr, c)) + np.cross(alpha, c), axis=1))
+
+
+def _lag_costs(
+    a_parent: FloatArray, a_child: FloatArray, rate_hz: float, max_s: float, masks: list[NDArray[np.bool_]]
+) -> tuple[FloatArray, FloatArray]:
+    """Lag grid (L,) s and mean (a_p(t) − a_c(t + lag))² over each mask's samples (M, L)."""
+    n = a_parent.shape[0]
+    t = np.arange(n) / rate_hz
+    half = int(round(max_s / _GRID_S))
+    lags = np.arange(-half, half + 1, dtype=float) * _GRID_S  # holds 0 exactly
+    w = np.asarray(masks, dtype=float)
+    count = np.maximum(w.sum(axis=1), 1.0)
+    cost = np.array([w @ (a_parent - np.interp(t + g, t, a_child)) ** 2 for g in lags], dtype=float).T
+    return lags, cost / count[:, None]
+
+
+def _minimum(lags: FloatArray, cost: FloatArray, floor: float) -> tuple[float, float]:
+    """(lag at the minimum of ``cost`` refined by a parabola, share of the zero-lag cost it removes).
+
+    A zero-lag cost at or below ``floor`` has nothing to explain (share 0).
+    """
+    k = int(np.argmin(cost))
+    lag = float(lags[k])
+    if 0 < k < lags.size - 1:
+        den = cost[k - 1] - 2.0 * cost[k] + cost[k + 1]
+        if den > 0:
+            lag += 0.5 * (cost[k - 1] - cost[k + 1]) / den * _GRID_S
+    zero = float(cost[lags.size // 2])
+    return lag, max(1.0 - float(cost[k]) / zero, 0.0) if zero > floor else 0.0
+
+
+def joint_lag(
+    a_parent: FloatArray,
+    a_child: FloatArray,
+    rate_hz: float,
+    max_s: float,
+    keep: NDArray[np.bool_] | None = None,
+) -> JointLag:
+    """The lag minimising mean (a_p(t) − a_c(t + lag))² over ``±max_s``, on the whole trial and its halves.
+
+    Args:
+        a_parent: (N,) the joint point's acceleration norm from the parent sensor, m/s².
+        a_child: (N,) the same from the child sensor, m/s².
+        rate_hz: sampling rate, Hz.
+        max_s: largest lag searched, s.
+        keep: (N,) samples to compare (default: all); the ends (``max_s``) are left out.
+
+    Returns:
+        The lag and its explained share; ``split_s`` from the two halves; ``counted`` False
+        (the caller applies the thresholds).
+    """
+    n = a_parent.shape[0]
+    edge = int(np.ceil(max_s * rate_hz)) + 2
+    inner = np.zeros(n, dtype=bool)
+    inner[edge : n - edge] = True
+    if keep is not None:
+        inner &= keep
+    first = np.arange(n) < n // 2
+    masks = [inner, inner & first, inner & ~first]
+    if min(int(m.sum()) for m in masks) < 16:
+        return JointLag(0.0, 0.0, np.inf, False)
+    lags, cost = _lag_costs(a_parent, a_child, rate_hz, max_s, masks)
+    floor = 1e-12 * float(np.mean(a_parent**2))
+    lag, explained = _minimum(lags, cost[0], floor)
+    (lag1, _), (lag2, _) = _minimum(lags, cost[1], floor), _minimum(lags, cost[2], floor)
+    return JointLag(lag, explained, abs(lag1 - lag2), False)
+
+
+def estimate_lags(
+    signals: _Signals, calibration: LegCalibration, options: CalibrationOptions
+) -> dict[str, JointLag]:
+    """The lag of each joint's child sensor behind its parent (:class:`JointLag`), one pass."""
+    rate = signals.rate_hz
+    out = {}
+    for joint, parent, child in _CHAIN:
+        j = calibration.joints[joint]
+        keep = impact_keep_mask((signals.acc[parent], signals.acc[child], signals.acc["foot"]), rate, options)
+        a_p = _lowpass(
+            point_acceleration_norm(
+                signals.acc[parent], signals.gyr[parent], j.center_in_parent_sensor, rate
+            ),
+            options.clock_lowpass_hz,
+            rate,
+        )
+        a_c = _lowpass(
+            point_acceleration_norm(signals.acc[child], signals.gyr[child], j.center_in_child_sensor, rate),
+            options.clock_lowpass_hz,
+            rate,
+        )
+        found = joint_lag(a_p, a_c, rate, options.clock_max_offset_s, keep)
+        counted = (
+            found.explained >= options.clock_min_explained and found.split_s <= options.clock_split_tol_s
+        )
+        out[joint] = replace(found, counted=counted)
+    return out
+
+
+def chain_shifts(lags: dict[str, JointLag]) -> dict[str, float]:
+    """``{sensor: s}`` re-timing of each sensor from the counted joint lags (pelvis 0)."""
+    shift = {"pelvis": 0.0}
+    for joint, parent, child in _CHAIN:
+        shift[child] = shift[parent] + (lags[joint].lag_s if lags[joint].counted else 0.0)
+    return shift
+
+
+def retime(signals: Any, shift_s: dict[str, float]) -> Any:
+    """A copy of a trial (``time_s``, ``acc``, ``gyr``, optional ``mag``) with sensors re-timed.
+
+    The signal of sensor ``s`` at ``t`` becomes the recorded one at ``t + shift_s[s]``
+    (linear interpolation; held at the ends). Sensors with no or zero shift are shared.
+    """
+    t = np.asarray(signals.time_s, dtype=float)
+
+    def move(d: dict[str, FloatArray] | None) -> dict[str, FloatArray] | None:
+        if d is None:
+            return None
+        out = dict(d)
+        for s, dt in shift_s.items():
+            if dt != 0.0 and s in d:
+                x = np.asarray(d[s], dtype=float)
+                out[s] = np.column_stack([np.interp(t + dt, t, x[:, k]) for k in range(x.shape[1])])
+        return out
+
+    return replace(
+        signals, acc=move(signals.acc), gyr=move(signals.gyr), mag=move(getattr(signals, "mag", None))
+    )
+
+
+def estimate_clock_offsets(
+    signals: _Signals, calibration: LegCalibration, options: CalibrationOptions
+) -> ClockOffsets:
+    """One pass of :func:`estimate_lags` as a :class:`ClockOffsets` (shifts from the counted lags)."""
+    lags = estimate_lags(signals, calibration, options)
+    return ClockOffsets(joints=lags, shift_s=chain_shifts(lags), passes=1)
+
+
+class ClockOffsetWarning(UserWarning):
+    """The sensors' clocks looked offset and the signals were re-timed before calibrating."""
+
+
+def synchronise(
+    trial: Any,
+    calibration: LegCalibration,
+    calibrate: Callable[[Any], LegCalibration],
+    options: CalibrationOptions,
+) -> tuple[Any, LegCalibration, ClockOffsets]:
+    """Estimate the clock offsets, re-time the trial and calibrate again, up to ``clock_passes`` times.
+
+    Args:
+        trial: the leg's trial (``time_s``, ``acc``, ``gyr``, optional ``mag``).
+        calibration: its first calibration.
+        calibrate: calibrates a (re-timed) trial.
+        options: ``clock_*`` thresholds.
+
+    Returns:
+        ``(trial, calibration, offsets)``: the re-timed trial and its calibration (the
+        inputs when no lag counted) and the record.
+
+    Warns:
+        ClockOffsetWarning: the signals were re-timed.
+    """
+    total = dict.fromkeys(("pelvis", "thigh", "shank", "foot"), 0.0)
+    current, cal = trial, calibration
+    lags: dict[str, JointLag] = {}
+    passes = 0
+    for _ in range(options.clock_passes):
+        passes += 1
+        lags = estimate_lags(current, cal, options)
+        step = chain_shifts(lags)
+        if not any(step.values()):
+            break
+        total = {s: total[s] + step[s] for s in total}
+        current = retime(trial, total)
+        cal = calibrate(current)
+    offsets = ClockOffsets(joints=lags, shift_s=total, passes=passes)
+    if offsets.applied:
+        moved = ", ".join(f"{s} {1000 * v:+.0f} ms" for s, v in total.items() if v != 0.0)
+        warnings.warn(
+            f"the sensors' clocks look offset from the pelvis sensor's ({moved}); the signals were "
+            f"re-timed before calibrating (calibration.json clock_offsets); synchronise the "
+            f"sensors, or pass clock_sync=False if they are",
+            ClockOffsetWarning,
+            stacklevel=2,
+        )
+    return current, cal, offsets
