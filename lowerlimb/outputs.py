@@ -254,6 +254,8 @@ class CalibrateOptions:
         s2j: a fitted S2J model (``s2j.json``) instead of the constant vectors.
         side_check: refuse a trial whose calibrated hip is on the other side.
         order_check: refuse a trial whose sensor columns look swapped.
+        clock_sync: estimate the sensors' clock offsets from the joints and re-time the
+            signals when they are offset (:mod:`lowerlimb.calibration.clock_sync`).
         exports: extra formats to write (``"opensim"``, ``"bids"``; docs/exports.md).
         reference: a reference CSV (``time`` and columns named as ours, deg / m) whose
             agreement with the result goes into ``report.html``.
@@ -272,6 +274,7 @@ class CalibrateOptions:
     s2j: Path | None = None
     side_check: bool = True
     order_check: bool = True
+    clock_sync: bool = True
     exports: tuple[str, ...] = ()
     reference: Path | None = None
     outputs: frozenset[str] = frozenset(OUTPUT_FILES)
@@ -348,7 +351,9 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
             s2j=s2j,
             calibration=previous,
             progress=True,
-            calibration_options=CalibrationOptions(check_sensor_order=options.order_check),
+            calibration_options=CalibrationOptions(
+                check_sensor_order=options.order_check, clock_sync=options.clock_sync
+            ),
             side_check=options.side_check,
         )
     _print_warnings(caught)

@@ -241,7 +241,9 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
             mass_kg=options.mass_kg,
             use_mag=options.use_mag,
             progress=True,
-            calibration_options=CalibrationOptions(check_sensor_order=options.order_check),
+            calibration_options=CalibrationOptions(
+                check_sensor_order=options.order_check, clock_sync=options.clock_sync
+            ),
             side_check=options.side_check,
         )
     _print_warnings(caught)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import warnings
 
 import numpy as np
@@ -160,3 +161,20 @@ def test_the_synchronised_real_walk_is_not_retimed() -> None:
     off = estimate_clock_offsets(trial, cal, CalibrationOptions())
     assert not off.applied
     assert abs(off.joints["ankle"].lag_s) < 0.004  # the one well-determined pair: ~1.5 ms
+
+
+def test_cli_records_the_clock_search_and_can_skip_it(tmp_path) -> None:
+    from lowerlimb.cli import main
+
+    trial = tmp_path / "t.csv"
+    assert main(["simulate", "--motion", "walk", "--duration", "20", "--seed", "4", "--out", str(trial)]) == 0
+    for flag, out in (([], tmp_path / "on"), (["--no-clock-sync"], tmp_path / "off")):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            rc = main(["calibrate", str(trial), "--out", str(out), "--outputs", "calibration", *flag])
+        assert rc == 0
+        rec = json.loads((out / "calibration.json").read_text())["clock_offsets"]
+        if flag:
+            assert rec == {}
+        else:
+            assert set(rec) == {"shift_s", "joints", "passes"} and not any(rec["shift_s"].values())

@@ -328,7 +328,7 @@ def synchronise(
         warnings.warn(
             f"the sensors' clocks look offset from the pelvis sensor's ({moved}); the signals were "
             f"re-timed before calibrating (calibration.json clock_offsets); synchronise the "
-            f"sensors, or pass clock_sync=False if they are",
+            f"sensors, or pass --no-clock-sync (clock_sync=False) if they are",
             ClockOffsetWarning,
             stacklevel=2,
         )

@@ -67,6 +67,12 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         help="do not refuse a trial whose thigh/shank or shank/foot columns look swapped",
     )
     p.add_argument(
+        "--no-clock-sync",
+        action="store_true",
+        help="do not estimate the sensors' clock offsets from the joints (by default, offsets that "
+        "explain the joints' mismatch are removed before calibrating and recorded in calibration.json)",
+    )
+    p.add_argument(
         "--export",
         action="append",
         choices=tuple(EXPORT_FORMATS),
@@ -109,6 +115,7 @@ def run(args: argparse.Namespace) -> int:
         s2j=args.s2j,
         side_check=not args.no_side_check,
         order_check=not args.no_order_check,
+        clock_sync=not args.no_clock_sync,
         exports=tuple(args.export),
         reference=args.reference,
         outputs=chosen_outputs(args),
