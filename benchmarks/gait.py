@@ -224,8 +224,10 @@ def markdown(res: dict[str, Any]) -> str:
         "# Both legs: issue 11's goals on simulated seven-IMU walks and on the real walk",
         "",
         f"Simulated: `simulate_bilateral` seeds {', '.join(map(str, seeds))}, "
-        f"{res['simulated']['duration_s']:g} s each, realistic noise, scored after {SKIP_S:g} s "
-        "(standing and the first step). Real: `gait/` (Xsens + Vicon), straight walking.",
+        f"{res['simulated']['duration_s']:g} s each, realistic noise, in a lab whose magnetic field "
+        "varies near the floor as the real walk's did (`simulation/magnetic_field.py`; the check "
+        "rejects the magnetometer, so every walk runs 6-axis, as the real one), scored after "
+        f"{SKIP_S:g} s (standing and the first step). Real: `gait/` (Xsens + Vicon), straight walking.",
         "",
         "## Simulated (truth: the simulator's heel contacts, toe-offs, ankle centres and angles)",
         "",

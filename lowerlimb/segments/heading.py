@@ -55,6 +55,14 @@ if TYPE_CHECKING:
 
 #: Joint-centre standard deviation at which a spherical joint's heading term counts half, m.
 CENTRE_STD_REF_M = 0.015
+#: Least weight of a spherical joint's heading term, even when its centre is undetermined.
+#: A wrong centre biases the joint acceleration, but the two segments' common translation
+#: (walking's fore-aft and sideways sway) still ties their headings; without a magnetometer
+#: nothing else does before the range-of-motion prior, which needs segment frames built
+#: with these headings (at weight 0 a two-leg walk with an undetermined hip, seed 205 of the
+#: simulator's artefact profile in its lab field, kept a thigh's arbitrary filter heading and
+#: its knee axis pointed 153° from the other's). Far below the magnetic heading's weight.
+CENTRE_MIN_RELIABILITY = 0.05
 #: Weight of the knee's hinge-axis heading term, (m/s²)² per unit axis product. The axes are
 #: unit vectors while the spherical joints' terms and the shared magnetic heading weight
 #: (:data:`lowerlimb.segments.tracking.MAG_HEADING_WEIGHT`, 10) are in (m/s²)²; at weight 1 the
@@ -159,19 +167,22 @@ def joint_acceleration_earth(
 
 
 def _centre_reliability(excitation: ExcitationReport | None) -> float:
-    """Weight in (0, 1] of a spherical joint's heading term: 1 / (1 + (σ / σ_ref)²).
+    """Weight in (0, 1] of a spherical joint's heading term: 1 / (1 + (σ / σ_ref)²) or more.
 
-    ``σ`` is the joint centre's standard deviation along its most poorly determined
-    direction (:class:`~lowerlimb.calibration.ExcitationReport`); a centre known to
+    The weight is at least :data:`CENTRE_MIN_RELIABILITY`. ``σ`` is the joint centre's
+    standard deviation along its most poorly determined direction
+    (:class:`~lowerlimb.calibration.ExcitationReport`); a centre known to
     ±:data:`CENTRE_STD_REF_M` counts half. A wrong centre adds a spurious
     ``α × Δc + ω × (ω × Δc)`` to the joint acceleration of one side only, which turns the
     child's heading; nearly planar walking leaves the hip centre in a sacral sensor
     ±6–8 cm uncertain, and its heading term would then overrule a good magnetometer or
     the range-of-motion prior.
     """
-    if excitation is None or not np.isfinite(excitation.weakest_std):
-        return 1.0 if excitation is None else 0.0
-    return float(1.0 / (1.0 + (excitation.weakest_std / CENTRE_STD_REF_M) ** 2))
+    if excitation is None:
+        return 1.0
+    if not np.isfinite(excitation.weakest_std):
+        return CENTRE_MIN_RELIABILITY
+    return max(CENTRE_MIN_RELIABILITY, float(1.0 / (1.0 + (excitation.weakest_std / CENTRE_STD_REF_M) ** 2)))
 
 
 def _axis_reliability(knee: object) -> float:

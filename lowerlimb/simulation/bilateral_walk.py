@@ -53,6 +53,7 @@ from .footsteps import (
 )
 from .gait_truth import GaitTruth, gait_truth
 from .leg_ik import solve_leg
+from .magnetic_field import LAB_FIELD, LabField, dipole_grid, field_enu_ut
 from .motions import MotionKinematics, smoothstep
 from .noise import ImuNoise
 from .placements import random_placements
@@ -352,6 +353,22 @@ def _measure(
     return BilateralTrial(t.copy(), acc, gyr, mag if with_mag else None), bias
 
 
+def _magnetometers(
+    rot: dict[str, FloatArray], pos: dict[str, FloatArray], lab_field: LabField | None, seed: int
+) -> dict[str, FloatArray]:
+    """``{sensor: (N, 3)}`` clean field in the sensor frames, µT: uniform, or the lab's.
+
+    The lab's (:mod:`~lowerlimb.simulation.magnetic_field`) dipoles are drawn from their own
+    generator, so that the noise of a seed stays the same.
+    """
+    if lab_field is None:
+        return {k: np.einsum("nji,j->ni", R, MAG_FIELD_ENU_UT) for k, R in rot.items()}
+    grid = dipole_grid(np.vstack(list(pos.values())), lab_field, np.random.default_rng([seed, 17]))
+    return {
+        k: np.einsum("nji,nj->ni", R, field_enu_ut(pos[k], MAG_FIELD_ENU_UT, grid)) for k, R in rot.items()
+    }
+
+
 def _positions(sig: dict[str, _SensorSignals]) -> FloatArray:
     """(N, 15) two-leg positions.csv columns in the pelvis sensor frame, m."""
     Rp = sig["left"].rot["pelvis"]
@@ -375,6 +392,7 @@ def simulate_bilateral(
     mass_kg: float = 75.0,
     still_s: float = 1.5,
     artefacts: Artefacts | None = None,
+    lab_field: LabField | None = LAB_FIELD,
 ) -> BilateralSimulation:
     """Simulate a seven-IMU walk (pelvis, both thighs, shanks and feet) with known truth.
 
@@ -392,6 +410,9 @@ def simulate_bilateral(
             :mod:`lowerlimb.simulation.bilateral_artefacts`); ``None`` or
             :meth:`Artefacts.none` gives the rigid signals. Its random draws use their own
             stream, so the placements, walk and noise are those of the rigid simulation.
+        lab_field: The magnetometers read the earth's field bent by dipoles under the floor
+            (:mod:`lowerlimb.simulation.magnetic_field`: varying by ~15 % at the feet, ~1 %
+            at the pelvis, like the real walk's lab); ``None``: one uniform field.
 
     Returns:
         A :class:`BilateralSimulation`.
@@ -427,7 +448,7 @@ def simulate_bilateral(
     acc = _two_leg({s: sig[s].acc for s in SIDES})
     gyr = _two_leg({s: sig[s].gyr for s in SIDES})
     rot = _two_leg({s: sig[s].rot for s in SIDES})
-    mag = {k: np.einsum("nji,j->ni", R, MAG_FIELD_ENU_UT) for k, R in rot.items()}
+    mag = _magnetometers(rot, _two_leg({s: sig[s].pos for s in SIDES}), lab_field, seed)
     clean = BilateralTrial(t.copy(), acc, gyr, mag)
     errors = draw_sensor_errors(art, t.size, art_rng, tuple(acc)) if art is not None else None
     trial, bias = _measure(t, clean, errors, noise, rng, with_mag)
