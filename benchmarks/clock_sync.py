@@ -42,16 +42,11 @@ from lowerlimb.simulation import Artefacts, simulate_bilateral
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _realwalk import IDS, raw_dir  # noqa: E402
+from gait import JOINT_QUANTITIES as QUANTITIES  # noqa: E402
+from gait import _joint_errors  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 CHAIN = (("hip", "pelvis", "thigh"), ("knee", "thigh", "shank"), ("ankle", "shank", "foot"))
-QUANTITIES = (
-    ("hip", "center_in_parent_sensor", "hip in pelvis sensor, mm"),
-    ("hip", "center_in_child_sensor", "hip in thigh sensor, mm"),
-    ("ankle", "center_in_parent_sensor", "ankle in shank sensor, mm"),
-    ("ankle", "center_in_child_sensor", "ankle in foot sensor, mm"),
-    ("knee", "axis_in_parent_sensor", "knee axis, deg"),
-)
 
 
 def _pair_lags(off: dict[str, float], side: str) -> dict[str, float]:
@@ -62,22 +57,6 @@ def _pair_lags(off: dict[str, float], side: str) -> dict[str, float]:
 
 def _applied_lags(shift: dict[str, float]) -> dict[str, float]:
     return {j: shift[c] - shift[p] for j, p, c in CHAIN}
-
-
-def _joint_errors(res: Any, truth: dict[str, Any]) -> dict[str, list[float]]:
-    out: dict[str, list[float]] = {}
-    cal = res.calibration_dict()["legs"]
-    for joint, key, label in QUANTITIES:
-        errs = []
-        for side in SIDES:
-            est = np.asarray(cal[side]["joints"][joint][key], dtype=float)
-            tru = np.asarray(truth["legs"][side]["joints"][joint][key], dtype=float)
-            if "axis" in key:
-                errs.append(float(np.degrees(np.arccos(np.clip(abs(est @ tru), -1.0, 1.0)))))
-            else:
-                errs.append(1000.0 * float(np.linalg.norm(est - tru)))
-        out[label] = errs
-    return out
 
 
 def score_seed(seed: int, artefacts: Artefacts) -> dict[str, Any]:
