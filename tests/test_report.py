@@ -214,3 +214,13 @@ def test_report_renders_in_headless_chromium(rich, tmp_path):
     blue = np.all(np.abs(rgb.astype(int) - np.array([31, 119, 180])) <= 40, axis=-1)
     plot_rows = np.count_nonzero(blue[bottom:].sum(axis=1) >= 3)
     assert plot_rows > 700, f"only {plot_rows} rows with plotted curves"
+
+
+def test_report_says_what_the_clock_search_found(tmp_path, walk_clean):
+    cal = calibration_of(walk_clean)
+    assert "clock-note" not in report(tmp_path, walk_clean, name="none.html", calibration=cal)
+    cal["clock_offsets"] = {"shift_s": {"pelvis": 0.0, "thigh": 0.0, "shank": 0.0, "foot": 0.0}}
+    assert "no offset found" in report(tmp_path, walk_clean, name="sync.html", calibration=cal)
+    cal["clock_offsets"] = {"shift_s": {"pelvis": 0.0, "thigh": 0.0204, "shank": 0.0, "foot": -0.0071}}
+    text = report(tmp_path, walk_clean, name="moved.html", calibration=cal)
+    assert "re-timed" in text and "thigh +20.4 ms" in text and "foot -7.1 ms" in text

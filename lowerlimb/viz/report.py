@@ -172,6 +172,7 @@ def render_report(
         "<h2>Calibration</h2>",
         _joint_table(calibration),
         _knee_axis_table(calibration),
+        _clock_note(calibration),
         "<h2>Joint angles</h2>",
         "<p class='note'>ISB angles, Z-X-Y decomposition; flexion, adduction/inversion and "
         "internal rotation positive; zero = standing reference posture.</p>",
@@ -279,6 +280,25 @@ def _knee_axis_table(calibration: Mapping[str, Any]) -> str:
         "<h3>Knee axis (unit vector pointing to the subject's right)</h3>"
         "<table class='calibration' id='knee-axis-table'><thead><tr><th></th><th>axis</th>"
         "<th>std (deg)</th></tr></thead><tbody>" + "".join(rows) + "</tbody></table>" + extra
+    )
+
+
+def _clock_note(calibration: Mapping[str, Any]) -> str:
+    """One line on the sensors' clocks (calibration.json ``clock_offsets``; empty when not searched)."""
+    rec = calibration.get("clock_offsets")
+    if not isinstance(rec, Mapping) or not isinstance(rec.get("shift_s"), Mapping):
+        return ""
+    moved = [(s, float(v)) for s, v in rec["shift_s"].items() if float(v) != 0.0]
+    if not moved:
+        return (
+            "<p class='note' id='clock-note'>Sensor clocks: no offset found between the sensors "
+            "(lags searched at each joint).</p>"
+        )
+    text = ", ".join(f"{_e(s)} {1000.0 * v:+.1f} ms" for s, v in moved)
+    return (
+        "<p class='warnings' id='clock-note'>Sensor clocks: the signals were re-timed before "
+        f"calibrating, as found from the joints ({text} against the pelvis sensor); "
+        "synchronise the sensors when recording.</p>"
     )
 
 
