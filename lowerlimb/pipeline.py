@@ -185,6 +185,7 @@ def calibrate_joints(
         runtime_s=0.0,
         gyro_bias={s: gyro_bias(trial.gyr[s], n_still, still.quiet) for s in SENSORS},
         still_s=n_still / trial.rate_hz,
+        clock_offsets={},  # the earlier trial's clocks say nothing of this one's; not searched
     )
 
 

@@ -75,6 +75,10 @@ def test_a_reused_calibration_says_so(calibrated):
     calib_lines = [ln for ln in err.splitlines() if "joint calibration" in ln]
     assert calib_lines and not any("0.00 s" in ln or "0.000 s" in ln for ln in calib_lines), calib_lines
     assert "rms residual" not in err  # the earlier trial's residuals are not this trial's
+    # nor its clocks: the search ran on the first trial only
+    first_cal = json.loads(first.read_text())
+    assert set(first_cal["clock_offsets"]) == {"shift_s", "joints", "passes"}
+    assert cal["clock_offsets"] == {}
 
 
 def test_every_printed_residual_has_its_unit(calibrated):
