@@ -25,3 +25,25 @@ def test_a_drifting_shank_heading_is_pulled_back_by_the_knee_axis_despite_the_ma
     # at weight 1 undid about a tenth of it)
     residual = np.rad2deg(np.abs(knee[late] + drift[late]))
     assert np.median(residual) < 1.0
+
+
+def test_edge_transients_do_not_turn_the_heading() -> None:
+    """The first and last 1/LOWPASS_HZ s of the joint accelerations are the low-pass's edge
+    transient: a spike there must not turn the estimated relative heading."""
+    import numpy as np
+
+    from lowerlimb.segments.heading import relative_heading
+
+    rate = 100.0
+    t = np.arange(3000) / rate
+    v = np.column_stack([np.cos(2.0 * t), np.sin(1.3 * t), np.zeros_like(t)])
+    turn = np.deg2rad(10.0)
+    R = np.array([[np.cos(turn), -np.sin(turn), 0.0], [np.sin(turn), np.cos(turn), 0.0], [0.0, 0.0, 1.0]])
+    u = v @ R.T  # u = R_z(10°) v: the heading that turns v onto u is 10°
+    spiked_u = u.copy()
+    spiked_u[-3:] = [[-30.0, 40.0, 0.0]] * 3  # a heel strike at the very end, tens of m/s²
+    spiked_u[:2] = [[25.0, -20.0, 0.0]] * 2
+    clean = np.rad2deg(relative_heading(u, v, rate))
+    spiked = np.rad2deg(relative_heading(spiked_u, v, rate))
+    assert np.allclose(clean, 10.0, atol=0.5)
+    assert np.max(np.abs(spiked - clean)) < 0.01
