@@ -62,6 +62,12 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
     )
     p.add_argument("--no-mag", action="store_true", help="omit magnetometer columns")
     p.add_argument(
+        "--uniform-field",
+        action="store_true",
+        help="with --side both: one uniform magnetic field instead of a lab's, whose field varies "
+        "near the floor as real labs' do (the one-leg simulator's field is always uniform)",
+    )
+    p.add_argument(
         "--force", action="store_true", help="replace existing files (default: refuse to overwrite)"
     )
 
@@ -128,6 +134,7 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
     from lowerlimb.io.atomic import write_files_atomically, write_text
     from lowerlimb.io.bilateral_tables import write_bilateral_angles_csv, write_bilateral_positions_csv
     from lowerlimb.simulation import Artefacts, ImuNoise, simulate_bilateral
+    from lowerlimb.simulation.magnetic_field import LAB_FIELD
 
     noise = ImuNoise() if args.noise == "realistic" else ImuNoise.none()
     sim = simulate_bilateral(
@@ -137,6 +144,7 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
         noise=noise,
         with_mag=not args.no_mag,
         artefacts=Artefacts.real_walk() if args.artefacts == "real" else None,
+        lab_field=None if args.uniform_field else LAB_FIELD,
     )
     t = sim.trial.time_s
     writers: dict[Path, Callable[[Path], None]] = {targets["--out"]: sim.trial.to_csv}
