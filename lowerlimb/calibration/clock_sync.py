@@ -42,9 +42,10 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.signal import butter, sosfiltfilt
 
 from ..constraints.angular_acceleration import angular_acceleration
+from ..constraints.prefilter import lowpass
+from ..constraints.spherical import joint_acceleration
 from ..conventions import FloatArray
 from .impact_window import impact_keep_mask
 
@@ -135,19 +136,16 @@ class ClockOffsets:
         }
 
 
-def _lowpass(x: FloatArray, cutoff_hz: float, rate_hz: float) -> FloatArray:
-    if cutoff_hz >= 0.5 * rate_hz or x.shape[0] < 16:
-        return x
-    return np.asarray(sosfiltfilt(butter(2, cutoff_hz, fs=rate_hz, output="sos"), x, axis=0))
-
-
 def point_acceleration_norm(
-    acc: FloatArray, gyr: FloatArray, point: FloatArray, rate_hz: float
+    acc: FloatArray, gyr: FloatArray, point: FloatArray, rate_hz: float, cutoff_hz: float
 ) -> FloatArray:
-    """‖f + ω × (ω × c) + α × c‖ (N,), m/s²: the specific force's norm at ``point`` (3,) m, sensor frame."""
-    alpha = angular_acceleration(gyr, rate_hz)
-    c = np.asarray(point, dtype=float)
-    return np.asarray(np.linalg.norm(acc + np.cross(gyr, np.cross(gyr, c)) + np.cross(alpha, c), axis=1))
+    """‖f + ω × (ω × c) + α × c‖ (N,), m/s², at ``point`` (3,) m, sensor frame, low-passed.
+
+    The norm of :func:`~lowerlimb.constraints.spherical.joint_acceleration`, through a
+    zero-phase 2nd-order Butterworth at ``cutoff_hz`` (none at or above Nyquist).
+    """
+    a = np.linalg.norm(joint_acceleration(acc, gyr, angular_acceleration(gyr, rate_hz), point), axis=1)
+    return lowpass(a, rate_hz, cutoff_hz if cutoff_hz < 0.5 * rate_hz else None, order=2)
 
 
 def _lag_costs(
@@ -225,17 +223,9 @@ def estimate_lags(
     for joint, parent, child in _CHAIN:
         j = calibration.joints[joint]
         keep = impact_keep_mask((signals.acc[parent], signals.acc[child], signals.acc["foot"]), rate, options)
-        a_p = _lowpass(
-            point_acceleration_norm(
-                signals.acc[parent], signals.gyr[parent], j.center_in_parent_sensor, rate
-            ),
-            options.clock_lowpass_hz,
-            rate,
-        )
-        a_c = _lowpass(
-            point_acceleration_norm(signals.acc[child], signals.gyr[child], j.center_in_child_sensor, rate),
-            options.clock_lowpass_hz,
-            rate,
+        a_p, a_c = (
+            point_acceleration_norm(signals.acc[s], signals.gyr[s], c, rate, options.clock_lowpass_hz)
+            for s, c in ((parent, j.center_in_parent_sensor), (child, j.center_in_child_sensor))
         )
         found = joint_lag(a_p, a_c, rate, options.clock_max_offset_s, keep)
         counted = (
