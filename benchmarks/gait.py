@@ -39,13 +39,15 @@ import json
 import time
 import warnings
 from pathlib import Path
-from types import ModuleType
+from types import ModuleType, SimpleNamespace
 from typing import Any
 
 import numpy as np
 
 from lowerlimb.bilateral import BilateralSideError, process_bilateral_trial
+from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.conventions import ANGLE_COLUMNS, SIDES
+from lowerlimb.model.fallback import segment_lengths
 from lowerlimb.simulation import Artefacts, simulate_bilateral
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -122,6 +124,27 @@ def _joint_errors(res: Any, truth: dict[str, Any]) -> dict[str, list[float]]:
     return out
 
 
+#: Labels of the segment-length rows (signed errors: hip or ankle centre to the knee axis line).
+LENGTH_LABELS = ("thigh length (hip to knee axis), mm", "shank length (ankle to knee axis), mm")
+
+
+def _length_errors(res: Any, truth: dict[str, Any]) -> dict[str, list[float]]:
+    """Signed thigh and shank length errors of each leg, mm (``model.fallback.segment_lengths``)."""
+    out: dict[str, list[float]] = {label: [] for label in LENGTH_LABELS}
+    for side in SIDES:
+        joints = truth["legs"][side]["joints"]
+        true_leg = SimpleNamespace(
+            hip=SphericalJointCalibration.from_dict(joints["hip"], "hip"),
+            knee=HingeJointCalibration.from_dict(joints["knee"]),
+            ankle=SphericalJointCalibration.from_dict(joints["ankle"], "ankle"),
+        )
+        est = segment_lengths(res.legs[side].calibration)
+        tru = segment_lengths(true_leg)  # type: ignore[arg-type]
+        for label, e, t in zip(LENGTH_LABELS, est, tru, strict=True):
+            out[label].append(1000.0 * (e - t))
+    return out
+
+
 def score_simulation(
     seed: int, duration_s: float, artefacts: Artefacts | None = None, uniform_field: bool = False
 ) -> dict[str, Any]:
@@ -178,7 +201,7 @@ def score_simulation(
     out["angle_rmse_deg"] = {
         side: {name: float(rmse[9 * i + k]) for k, name in enumerate(ANGLES)} for i, side in enumerate(SIDES)
     }
-    out["joint_err"] = _joint_errors(res, sim.truth)
+    out["joint_err"] = _joint_errors(res, sim.truth) | _length_errors(res, sim.truth)
     c_true = {s: np.asarray(sim.truth["legs"][s]["joints"]["hip"]["center_in_parent_sensor"]) for s in SIDES}
     out["hip_spacing_err_mm"] = 1000.0 * (
         res.hips.spacing_m - float(np.linalg.norm(c_true["right"] - c_true["left"]))
@@ -208,7 +231,7 @@ def summarise_simulation(trials: list[dict[str, Any]]) -> dict[str, Any]:
     pooled["hip_spacing_err_mm"] = _stats([tr["hip_spacing_err_mm"] for tr in trials])
     pooled["joints"] = {
         label: _stats([e for tr in trials for e in tr["joint_err"][label]])
-        for _, _, label in JOINT_QUANTITIES
+        for label in [q[2] for q in JOINT_QUANTITIES] + list(LENGTH_LABELS)
     }
     return pooled
 
@@ -279,9 +302,10 @@ def _simulated_lines(sim: dict[str, Any]) -> list[str]:
             f"{_fmt(st['bias'], unit)} | {'' if goal is None else f'≤ {goal:g}{unit} median'} | {met} |"
         )
     L += ["", "Calibrated joints of both legs against the truth (all legs of all trials):", ""]
-    L += ["| quantity | n | median | worst |", "|---|---|---|---|"]
+    L += ["| quantity | n | median abs | worst abs | bias |", "|---|---|---|---|---|"]
     for label, st in s["joints"].items():
-        L.append(f"| {label} | {st['n']} | {_fmt(st['median_abs'])} | {_fmt(st['worst_abs'])} |")
+        bias = _fmt(st["bias"]) if label in LENGTH_LABELS else ""
+        L.append(f"| {label} | {st['n']} | {_fmt(st['median_abs'])} | {_fmt(st['worst_abs'])} | {bias} |")
     L += ["", "Angle RMSE, degrees (median over trials / worst trial):", ""]
     L += ["| side | " + " | ".join(ANGLES) + " |", "|---|" + "---|" * len(ANGLES)]
     for side in SIDES:
