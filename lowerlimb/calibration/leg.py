@@ -36,11 +36,13 @@ from lowerlimb.calibration._prepare import (
     joint_signals,
     prepare_signals,
 )
+from lowerlimb.calibration.aligned_form import AlignedSettings, aligned_centres
 from lowerlimb.calibration.cutoff_probe import with_cutoff_shifts
 from lowerlimb.calibration.excitation import issue_warnings
 from lowerlimb.calibration.hinge_joint import fit_hinge_joint
 from lowerlimb.calibration.impact_window import impact_keep_mask
 from lowerlimb.calibration.joint_center import fit_spherical
+from lowerlimb.calibration.joint_cutoff import joint_cutoffs_hz
 from lowerlimb.calibration.knee_line import axis_mismatch_message, standing_axis_mismatch, with_knee_line
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
@@ -312,6 +314,9 @@ def calibrate_leg(
     if opts.cutoff_probe:
         setup = {"hip": (p, c, hip_prior, hip_keep), "ankle": (pa, ca, ankle_prior, ankle_keep)}
         hip, ankle = _probe_cutoffs(hip, ankle, setup, acc, gyr, sig, method, opts)
+    if opts.centre_form == "aligned":
+        keeps = {"hip": hip_keep, "ankle": ankle_keep}
+        hip, knee, ankle = _aligned(hip, knee, ankle, acc, gyr, sig, caps, keeps, opts)
     priors = {n: pr.to_dict() for n, pr in (("hip", hip_prior), ("ankle", ankle_prior)) if pr is not None}
     if opts.anthropometric_prior and opts.knee_line_prior:
         knee, priors["knee_line"] = _knee_line(knee, hip, ankle, acc, gyr, sig, caps, method, opts)
@@ -329,6 +334,63 @@ def calibrate_leg(
         rigid_band_cap_hz=caps,
         priors=priors,
     )
+
+
+def _aligned(
+    hip: SphericalJointCalibration,
+    knee: HingeJointCalibration,
+    ankle: SphericalJointCalibration,
+    acc: dict[str, FloatArray],
+    gyr: dict[str, FloatArray],
+    sig: PreparedSignals,
+    caps: dict[str, float | None],
+    keeps: Mapping[str, ArrayLike | None],
+    options: CalibrationOptions,
+) -> tuple[SphericalJointCalibration, HingeJointCalibration, SphericalJointCalibration]:
+    """Hip, knee and ankle centres refined by the aligned 3-D form at their joints' cut-offs.
+
+    See :mod:`~lowerlimb.calibration.aligned_form`; each fit starts from the norm form's centres.
+    """
+    o = options
+    settings = AlignedSettings(
+        o.aligned_window_s, o.aligned_iterations, o.angacc_window_s, o.angacc_polyorder
+    )
+
+    def refit(
+        joint: str, res: SphericalJointCalibration, gauge: tuple[FloatArray, FloatArray] | None
+    ) -> SphericalJointCalibration:
+        p, c, _ = JOINT_SENSORS[joint]
+        cutoff = _one_cutoff(joint_cutoffs_hz(sig.cutoff_hz[p], sig.cutoff_hz[c], caps.get(f"{p}-{c}"), o))
+        fit = aligned_centres(
+            acc[p],
+            gyr[p] - sig.gyro_bias[p],
+            acc[c],
+            gyr[c] - sig.gyro_bias[c],
+            rate_hz=sig.rate_hz,
+            cutoff_hz=cutoff,
+            start=np.concatenate([res.center_in_parent_sensor, res.center_in_child_sensor]),
+            settings=settings,
+            keep=keeps.get(joint),
+            gauge_axes=gauge,
+        )
+        return replace(
+            res,
+            center_in_parent_sensor=fit.center_in_parent,
+            center_in_child_sensor=fit.center_in_child,
+            solver=f"{res.solver}+aligned",
+        )
+
+    gauge = (knee.axis_in_parent_sensor, knee.axis_in_child_sensor)
+    knee = replace(knee, center=refit("knee", knee.center, gauge))
+    return refit("hip", hip, None), knee, refit("ankle", ankle, None)
+
+
+def _one_cutoff(pair: tuple[float | None, float | None]) -> float | None:
+    """One cut-off for both sensors of a joint: the higher (``None``, unfiltered, wins)."""
+    a, b = pair
+    if a is None or b is None:
+        return None
+    return max(a, b)
 
 
 def _knee_line(

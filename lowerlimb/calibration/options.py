@@ -8,12 +8,14 @@ from lowerlimb.constraints.angular_acceleration import DEFAULT_POLYORDER, DEFAUL
 from lowerlimb.errors import InputError
 from lowerlimb.methods import CALIBRATION_METHODS
 
-__all__ = ["METHODS", "CalibrationOptions", "check_method"]
+__all__ = ["CENTRE_FORMS", "METHODS", "CalibrationOptions", "check_method"]
 
 #: Accepted ``method`` values: CasADi Gauss–Newton (default), NumPy Gauss–Newton
 #: with the analytic Jacobians, the two swarms (Hu 2021 §3.2–3.3), and a swarm
 #: followed by a CasADi refinement.
 METHODS: tuple[str, ...] = tuple(CALIBRATION_METHODS)
+#: The forms of the joint constraint that decide the centres (:attr:`CalibrationOptions.centre_form`).
+CENTRE_FORMS: tuple[str, ...] = ("norm", "aligned")
 
 
 def check_method(method: str) -> str:
@@ -43,6 +45,13 @@ class CalibrationOptions:
             from the unfiltered gyro, like the accelerometer, instead of building it
             from the low-passed gyro (the rigid-body relation is linear in ``a`` and
             ``K``, not in ω; :func:`~lowerlimb.calibration._prepare.filtered_regressor`).
+        centre_form: ``"norm"`` (default: the norm form of eq. 3 decides the centres) or
+            ``"aligned"``: the hip, knee and ankle centres are refined by the 3-D
+            constraint in gyro-aligned frames, at the same cut-offs
+            (:mod:`~lowerlimb.calibration.aligned_form`; the diagnostics stay the norm form's).
+        aligned_window_s: the aligned form's window for the slowly varying rotation
+            between the two sensors' integration frames, s.
+        aligned_iterations: its alternations of the windows' rotations and the centres.
         rigid_band: cap each joint's cut-off at the band in which its two sensors
             are coherent (:func:`~lowerlimb.constraints.prefilter.rigid_band_hz`):
             soft-tissue wobble, strap resonance and impact ringing of real
@@ -204,6 +213,9 @@ class CalibrationOptions:
 
     prefilter: bool = True
     filter_regressor: bool = False
+    centre_form: str = "norm"
+    aligned_window_s: float = 2.0
+    aligned_iterations: int = 4
     cutoff_hz: float | None = None
     cutoff_factor: float = 1.5
     min_cutoff_hz: float = 2.5
@@ -319,6 +331,14 @@ class CalibrationOptions:
                 f"clock_max_offset_s, clock_lowpass_hz and clock_split_tol_s must be > 0 and "
                 f"clock_passes >= 1, got {self.clock_max_offset_s}, {self.clock_lowpass_hz}, "
                 f"{self.clock_split_tol_s}, {self.clock_passes}"
+            )
+        if self.centre_form not in CENTRE_FORMS:
+            forms = ", ".join(CENTRE_FORMS)
+            raise InputError(f"centre_form must be one of {forms}, got {self.centre_form!r}")
+        if not self.aligned_window_s > 0 or self.aligned_iterations < 1:
+            raise InputError(
+                f"aligned_window_s must be > 0 s and aligned_iterations >= 1, got "
+                f"{self.aligned_window_s} and {self.aligned_iterations}"
             )
         if self.center_bound_m <= 0:
             raise InputError(f"center_bound_m must be > 0 m, got {self.center_bound_m}")
