@@ -45,6 +45,7 @@ from typing import Any
 import numpy as np
 
 from lowerlimb.bilateral import BilateralSideError, process_bilateral_trial
+from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.conventions import ANGLE_COLUMNS, SIDES
 from lowerlimb.model.fallback import segment_lengths
@@ -146,12 +147,17 @@ def _length_errors(res: Any, truth: dict[str, Any]) -> dict[str, list[float]]:
 
 
 def score_simulation(
-    seed: int, duration_s: float, artefacts: Artefacts | None = None, uniform_field: bool = False
+    seed: int,
+    duration_s: float,
+    artefacts: Artefacts | None = None,
+    uniform_field: bool = False,
+    calibration_options: CalibrationOptions | None = None,
 ) -> dict[str, Any]:
     """One simulated walk through the two-leg pipeline, scored against its truth.
 
     ``artefacts`` is the simulator's realism profile (``None``: rigid sensors);
-    ``uniform_field`` replaces the lab's magnetic field by one uniform field (9-axis fusion).
+    ``uniform_field`` replaces the lab's magnetic field by one uniform field (9-axis fusion);
+    ``calibration_options`` are passed to the pipeline (``None``: the defaults).
     """
     kw: dict[str, Any] = {"lab_field": None} if uniform_field else {}
     sim = simulate_bilateral(duration_s, seed, artefacts=artefacts, **kw)
@@ -160,11 +166,13 @@ def score_simulation(
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            res = process_bilateral_trial(sim.trial)
+            res = process_bilateral_trial(sim.trial, calibration_options=calibration_options)
         except BilateralSideError:
             # the pair of calibrated hips looks swapped: counted, then scored without the check
             refused = True
-            res = process_bilateral_trial(sim.trial, side_check=False)
+            res = process_bilateral_trial(
+                sim.trial, side_check=False, calibration_options=calibration_options
+            )
     out: dict[str, Any] = {
         "seed": seed,
         "wall_s": time.perf_counter() - t0,

@@ -38,11 +38,16 @@ passes), starting from the norm form's centres. A hinge's common position along
 its axis is not determined by either form; its centre is solved with the
 ``(j_P, j_C)`` gauge of eq. 16 (the along-axis coordinates sum to zero).
 
-Measured (``benchmarks/aligned_form.py``): it removes the simulator's length
-bias and most of its hip error; on the rig (no low-pass needed) it is no better
-than the norm form; on the real walk of ``gait/`` it changes the thighs by
-+10 / −19 mm and lengthens the shanks by about 30 mm against Vicon. It is
-therefore an option, not the default (docs/limits.md).
+Measured (``benchmarks/aligned_form.py``, same data both ways; the leg applies it
+to the hip and the knee, the ankle keeps the norm form): on six rigid simulated
+walks the thigh and shank length bias goes from −21 / −24 mm to −5 / −5 mm (worst
+79 → 18 mm), the hip in the pelvis sensor from 85 to 5 mm median and the worst
+non-flexion angle RMSE from 4.9° to 1.2°; with the simulator's real-walk artefacts
+the length bias goes from −60 / −87 to −20 / −58 mm. On the rig (no low-pass
+needed there) it is no better than the norm form (within 2 mm). On the real walk
+of ``gait/`` the thighs come within 3 mm of Vicon (were −10 / +29) but the shanks
+move from +4 / −5 to +38 / +32 mm and the step width error from 18 to 72 mm median.
+It is therefore an option, not the default (docs/limits.md).
 """
 
 from __future__ import annotations

@@ -46,7 +46,7 @@ class CalibrationOptions:
             from the low-passed gyro (the rigid-body relation is linear in ``a`` and
             ``K``, not in ω; :func:`~lowerlimb.calibration._prepare.filtered_regressor`).
         centre_form: ``"norm"`` (default: the norm form of eq. 3 decides the centres) or
-            ``"aligned"``: the hip, knee and ankle centres are refined by the 3-D
+            ``"aligned"``: the hip and knee centres are refined by the 3-D
             constraint in gyro-aligned frames, at the same cut-offs
             (:mod:`~lowerlimb.calibration.aligned_form`; the diagnostics stay the norm form's).
         aligned_window_s: the aligned form's window for the slowly varying rotation

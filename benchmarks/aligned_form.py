@@ -1,0 +1,235 @@
+"""The norm form against the aligned 3-D form of the joint constraint, on the same data.
+
+``CalibrationOptions(centre_form="aligned")`` (:mod:`lowerlimb.calibration.aligned_form`)
+against the defaults (``"norm"``, Hu et al. 2021 eq. 3), everything else equal:
+
+- simulated seven-IMU walks (``simulate_bilateral`` seeds 201-206, 60 s, the lab's
+  magnetic field, 6-axis), rigid and with ``Artefacts.real_walk()``: segment lengths
+  (hip or ankle centre to the knee axis line), joint centres, the worst non-flexion
+  angle RMSE of each trial, step width (``gait.py``'s scoring);
+- the real walk of ``gait/`` (Xsens + Vicon): segment lengths against Vicon's
+  HJC-KJC and KJC-AJC, hip spacing, stride length and step width of the straight
+  strides, knee flexion RMSE (``bilateral_gait.py``'s scoring);
+- the rig of ``rig/`` (exact joint centres): the centre error of both forms at the
+  cut-off the calibration uses there (none: the rig's adaptive cut-off leaves the
+  signals unfiltered).
+
+Usage: ``python benchmarks/aligned_form.py [--data DIR] [--seeds ...]``; writes
+``benchmarks/results/aligned_form.{md,json}``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import json
+import sys
+import tempfile
+import time
+import warnings
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+from lowerlimb.bilateral import process_bilateral_trial  # noqa: E402
+from lowerlimb.calibration._prepare import prepare_signals  # noqa: E402
+from lowerlimb.calibration.aligned_form import AlignedSettings, aligned_centres  # noqa: E402
+from lowerlimb.calibration.options import CalibrationOptions  # noqa: E402
+from lowerlimb.io import load_xsens  # noqa: E402
+from lowerlimb.io.bilateral_trial import BilateralTrial  # noqa: E402
+from lowerlimb.simulation import Artefacts  # noqa: E402
+
+FORMS = ("norm", "aligned")
+
+
+def _module(name: str) -> ModuleType:
+    spec = importlib.util.spec_from_file_location(f"{name}_benchmark", ROOT / "benchmarks" / f"{name}.py")
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def simulated(seeds: list[int], duration_s: float, artefacts: Artefacts | None) -> dict[str, Any]:
+    """Both forms on the same simulated walks, pooled with ``gait.py``'s summary."""
+    g = _module("gait")
+    out: dict[str, Any] = {}
+    for form in FORMS:
+        opts = CalibrationOptions(centre_form=form)
+        trials, failed = [], []
+        for seed in seeds:
+            try:
+                trials.append(g.score_simulation(seed, duration_s, artefacts, calibration_options=opts))
+            except Exception as e:  # noqa: BLE001 - a benchmark records any failure
+                failed.append(f"seed {seed}: {type(e).__name__}: {e}")
+        if not trials:
+            out[form] = {"failed": failed}
+            continue
+        pooled = g.summarise_simulation(trials)
+        worst = [
+            max(v for side in tr["angle_rmse_deg"].values() for k, v in side.items() if "flexion" not in k)
+            for tr in trials
+        ]
+        out[form] = {
+            "joints": pooled["joints"],
+            "step_width_mm": pooled["step_width_mm"],
+            "stride_length_pct": pooled["stride_length_pct"],
+            "worst_other_angle_deg": worst,
+            "wall_s": [tr["wall_s"] for tr in trials],
+            "seeds": [tr["seed"] for tr in trials],
+            "failed": failed,
+        }
+    return out
+
+
+def real_walk(data: Path) -> dict[str, Any]:
+    """Both forms on the real walk, scored as ``bilateral_gait.py`` scores the default."""
+    bg = _module("bilateral_gait")
+    ge = bg._gait_events_module()
+    vicon = bg.load_vicon(data)
+    with tempfile.TemporaryDirectory() as tmp:
+        csv = Path(tmp) / "walk7.csv"
+        load_xsens(bg.raw_dir(data), bg.IDS).to_csv(csv)
+        trial = BilateralTrial.from_csv(csv)
+    out: dict[str, Any] = {}
+    for form in FORMS:
+        t = time.perf_counter()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            res = process_bilateral_trial(trial, calibration_options=CalibrationOptions(centre_form=form))
+        row: dict[str, Any] = {"wall_s": time.perf_counter() - t}
+        row["legs"] = bg.score_legs(res, vicon)
+        row |= bg.score_strides(res, vicon, ge)
+        row["hip_spacing_err_mm"] = 1000 * res.hips.spacing_m - float(
+            np.nanmedian(np.linalg.norm(vicon["LHJC"] - vicon["RHJC"], axis=1))
+        )
+        out[form] = row
+    return out
+
+
+def rig(data: Path) -> list[dict[str, Any]]:
+    """Centre errors of both forms on the rig's three trials (unfiltered, as the calibration runs there)."""
+    import lowerlimb as ll
+
+    r = _module("rig")
+    opts = CalibrationOptions()
+    settings = AlignedSettings(
+        opts.aligned_window_s, opts.aligned_iterations, opts.angacc_window_s, opts.angacc_polyorder
+    )
+    rows = []
+    for trial in ("1D_01", "2D_01", "3D_01"):
+        t = r.load_trial(data, trial)
+        c1, c2 = ll.estimate_joint_center(t["acc1"], t["gyr1"], t["acc2"], t["gyr2"], rate_hz=t["rate_hz"])
+        # the gyro biases the norm form removes (its still period, if any)
+        sig = prepare_signals(
+            {"p": t["acc1"], "c": t["acc2"]}, {"p": t["gyr1"], "c": t["gyr2"]}, t["rate_hz"], opts
+        )
+        fit = aligned_centres(
+            t["acc1"],
+            t["gyr1"] - sig.gyro_bias["p"],
+            t["acc2"],
+            t["gyr2"] - sig.gyro_bias["c"],
+            rate_hz=t["rate_hz"],
+            cutoff_hz=None,
+            start=np.concatenate([c1, c2]),
+            settings=settings,
+        )
+        rows.append(
+            {
+                "trial": trial,
+                "norm_mm": list(r.centre_errors_mm(t, trial, c1, c2)),
+                "aligned_mm": list(r.centre_errors_mm(t, trial, fit.center_in_parent, fit.center_in_child)),
+            }
+        )
+    return rows
+
+
+def _cell(st: dict[str, float]) -> str:
+    return f"{st['median_abs']:.1f} / {st['worst_abs']:.1f} / {st['bias']:+.1f}"
+
+
+def _sim_lines(title: str, sim: dict[str, Any]) -> list[str]:
+    n, a = sim["norm"], sim["aligned"]
+    fails = [f"- {form} failed on {f}" for form in FORMS for f in sim[form].get("failed", [])]
+    if "joints" not in n or "joints" not in a:
+        return [f"### {title}", "", *fails, ""]
+    L = [f"### {title}", "", "| quantity (median abs / worst abs / bias) | norm | aligned |", "|---|---|---|"]
+    for label in n["joints"]:
+        L.append(f"| {label} | {_cell(n['joints'][label])} | {_cell(a['joints'][label])} |")
+    for key in ("step_width_mm", "stride_length_pct"):
+        L.append(f"| {key} | {_cell(n[key])} | {_cell(a[key])} |")
+    wn, wa = (" / ".join(f"{v:.2f}" for v in x["worst_other_angle_deg"]) for x in (n, a))
+    L.append(f"| worst non-flexion angle RMSE per trial, deg | {wn} | {wa} |")
+    tn, ta = (float(np.median(x["wall_s"])) for x in (n, a))
+    L.append(f"| pipeline wall time per trial (median), s | {tn:.1f} | {ta:.1f} |")
+    if fails:
+        L += ["", "Trials that failed (left out of the pooled rows above):", "", *fails]
+    return L + [""]
+
+
+def markdown(res: dict[str, Any]) -> str:
+    """The report: simulated (rigid, artefacts), real walk, rig."""
+    L = [
+        "# Norm form against the aligned 3-D form of the joint constraint",
+        "",
+        '`CalibrationOptions(centre_form="aligned")` against the defaults, on the same data '
+        "(benchmarks/aligned_form.py; lowerlimb.calibration.aligned_form). Simulated: seeds "
+        f"{', '.join(map(str, res['seeds']))}, {res['duration_s']:g} s, scored as gait.md.",
+        "",
+        "## Simulated seven-IMU walks",
+        "",
+    ]
+    L += _sim_lines("Rigid sensors", res["rigid"])
+    L += _sim_lines("With the real-walk artefacts", res["artefacts"])
+    if res.get("real"):
+        L += ["## Real walk (gait/, against Vicon Plug-in Gait)", "", "| quantity | norm | aligned |"]
+        L += ["|---|---|---|"]
+        n, a = res["real"]["norm"], res["real"]["aligned"]
+        for side in ("left", "right"):
+            for key in ("thigh_err_mm", "shank_err_mm", "knee_flexion_rmse_deg"):
+                if key in n["legs"][side]:
+                    L.append(f"| {side} {key} | {n['legs'][side][key]:+.1f} | {a['legs'][side][key]:+.1f} |")
+        L.append(
+            f"| hip spacing error, mm | {n['hip_spacing_err_mm']:+.1f} | {a['hip_spacing_err_mm']:+.1f} |"
+        )
+        for key in ("stride_length_err_pct", "step_width_err_mm"):
+            if n.get(key, {}).get("n"):
+                L.append(f"| {key} (median abs / worst abs / bias) | {_cell(n[key])} | {_cell(a[key])} |")
+        L += [""]
+    if res.get("rig"):
+        L += ["## Rig (rig/, exact centres): centre error sensor 1 / sensor 2, mm", ""]
+        L += ["| trial | norm | aligned |", "|---|---|---|"]
+        for row in res["rig"]:
+            n_, a_ = (" / ".join(f"{v:.1f}" for v in row[k]) for k in ("norm_mm", "aligned_mm"))
+            L.append(f"| {row['trial']} | {n_} | {a_} |")
+        L += [""]
+    return "\n".join(L)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
+    ap.add_argument("--seeds", type=int, nargs="+", default=[201, 202, 203, 204, 205, 206])
+    ap.add_argument("--duration", type=float, default=60.0)
+    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
+    args = ap.parse_args()
+    res: dict[str, Any] = {"seeds": args.seeds, "duration_s": args.duration}
+    res["rigid"] = simulated(args.seeds, args.duration, None)
+    res["artefacts"] = simulated(args.seeds, args.duration, Artefacts.real_walk())
+    if (args.data / "gait").is_dir():
+        res["real"] = real_walk(args.data)
+    if (args.data / "rig").is_dir():
+        res["rig"] = rig(args.data)
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "aligned_form.json").write_text(json.dumps(res, indent=1, default=float))
+    (args.out / "aligned_form.md").write_text(markdown(res))
+    print(markdown(res))
+
+
+if __name__ == "__main__":
+    main()
