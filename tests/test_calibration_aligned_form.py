@@ -86,3 +86,13 @@ def test_nothing_kept_leaves_the_start() -> None:
 def test_bad_settings_are_refused(kw: dict[str, object]) -> None:
     with pytest.raises(InputError):
         CalibrationOptions(**kw)  # type: ignore[arg-type]
+
+
+def test_aligned_joints_choose_what_is_refined() -> None:
+    sim = _walk()
+    cal = calibrate_leg(
+        sim.trial.leg("left"), options=CalibrationOptions(centre_form="aligned", aligned_joints=("hip",))
+    )
+    assert cal.hip.solver.endswith("+aligned")
+    assert not cal.knee.center.solver.endswith("+aligned")
+    assert not cal.ankle.solver.endswith("+aligned")

@@ -391,9 +391,12 @@ def _aligned(
             solver=f"{res.solver}+aligned",
         )
 
-    gauge = (knee.axis_in_parent_sensor, knee.axis_in_child_sensor)
-    knee = replace(knee, center=refit("knee", knee.center, gauge))
-    return refit("hip", hip, None), knee, ankle
+    if "knee" in o.aligned_joints:
+        gauge = (knee.axis_in_parent_sensor, knee.axis_in_child_sensor)
+        knee = replace(knee, center=refit("knee", knee.center, gauge))
+    if "hip" in o.aligned_joints:
+        hip = refit("hip", hip, None)
+    return hip, knee, ankle
 
 
 def _one_cutoff(pair: tuple[float | None, float | None]) -> float | None:

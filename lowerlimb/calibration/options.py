@@ -52,6 +52,7 @@ class CalibrationOptions:
         aligned_window_s: the aligned form's window for the slowly varying rotation
             between the two sensors' integration frames, s.
         aligned_iterations: its alternations of the windows' rotations and the centres.
+        aligned_joints: the joints the aligned form refines (a subset of ``("hip", "knee")``).
         rigid_band: cap each joint's cut-off at the band in which its two sensors
             are coherent (:func:`~lowerlimb.constraints.prefilter.rigid_band_hz`):
             soft-tissue wobble, strap resonance and impact ringing of real
@@ -216,6 +217,7 @@ class CalibrationOptions:
     centre_form: str = "norm"
     aligned_window_s: float = 2.0
     aligned_iterations: int = 4
+    aligned_joints: tuple[str, ...] = ("hip", "knee")
     cutoff_hz: float | None = None
     cutoff_factor: float = 1.5
     min_cutoff_hz: float = 2.5
@@ -335,6 +337,8 @@ class CalibrationOptions:
         if self.centre_form not in CENTRE_FORMS:
             forms = ", ".join(CENTRE_FORMS)
             raise InputError(f"centre_form must be one of {forms}, got {self.centre_form!r}")
+        if not set(self.aligned_joints) <= {"hip", "knee"}:
+            raise InputError(f"aligned_joints may hold 'hip' and 'knee', got {list(self.aligned_joints)}")
         if not self.aligned_window_s > 0 or self.aligned_iterations < 1:
             raise InputError(
                 f"aligned_window_s must be > 0 s and aligned_iterations >= 1, got "
