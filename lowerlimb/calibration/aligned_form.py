@@ -52,6 +52,7 @@ It is therefore an option, not the default (docs/limits.md).
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -131,7 +132,9 @@ def _window_rotations(
         m = keep[a:b]
         if np.count_nonzero(m) < 3:
             continue
-        rots.append(Rotation.align_vectors(gp[a:b][m], gc[a:b][m])[0])
+        with warnings.catch_warnings():  # a still window leaves D poorly defined (scipy warns)
+            warnings.simplefilter("ignore", UserWarning)
+            rots.append(Rotation.align_vectors(gp[a:b][m], gc[a:b][m])[0])
         centres.append(0.5 * (a + b))
     if not rots:
         return Rotation.identity(), np.zeros(0)
