@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["CALIBRATION_METHODS", "ORIENTATION_FILTERS", "MethodInfo", "describe"]
+__all__ = ["CALIBRATION_METHODS", "CENTRE_FORMS", "ORIENTATION_FILTERS", "MethodInfo", "describe"]
 
 
 @dataclass(frozen=True)
@@ -48,6 +48,13 @@ CALIBRATION_METHODS: dict[str, MethodInfo] = _registry(
     MethodInfo("dwpso+casadi", "particle swarm, refined by CasADi Gauss–Newton"),
     MethodInfo("gwo+casadi", "grey wolf optimiser, refined by CasADi Gauss–Newton"),
 )
+
+
+#: Forms of the joint constraint that decide the hip and knee centres
+#: (:attr:`lowerlimb.calibration.options.CalibrationOptions.centre_form`, ``calibrate --centre-form``):
+#: the norm form of Hu et al. 2021 eq. 3 (default) and the 3-D form in gyro-aligned frames
+#: (:mod:`lowerlimb.calibration.aligned_form`).
+CENTRE_FORMS: tuple[str, ...] = ("norm", "aligned")
 
 
 def describe(registry: dict[str, MethodInfo]) -> str:

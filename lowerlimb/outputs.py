@@ -256,6 +256,8 @@ class CalibrateOptions:
         order_check: refuse a trial whose sensor columns look swapped.
         clock_sync: estimate the sensors' clock offsets from the joints and re-time the
             signals when they are offset (:mod:`lowerlimb.calibration.clock_sync`).
+        centre_form: the form of the joint constraint that decides the hip and knee centres
+            (:attr:`~lowerlimb.calibration.options.CalibrationOptions.centre_form`).
         exports: extra formats to write (``"opensim"``, ``"bids"``; docs/exports.md).
         reference: a reference CSV (``time`` and columns named as ours, deg / m) whose
             agreement with the result goes into ``report.html``.
@@ -275,6 +277,7 @@ class CalibrateOptions:
     side_check: bool = True
     order_check: bool = True
     clock_sync: bool = True
+    centre_form: str = "norm"
     exports: tuple[str, ...] = ()
     reference: Path | None = None
     outputs: frozenset[str] = frozenset(OUTPUT_FILES)
@@ -352,7 +355,9 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
             calibration=previous,
             progress=True,
             calibration_options=CalibrationOptions(
-                check_sensor_order=options.order_check, clock_sync=options.clock_sync
+                check_sensor_order=options.order_check,
+                clock_sync=options.clock_sync,
+                centre_form=options.centre_form,
             ),
             side_check=options.side_check,
         )

@@ -242,7 +242,9 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
             use_mag=options.use_mag,
             progress=True,
             calibration_options=CalibrationOptions(
-                check_sensor_order=options.order_check, clock_sync=options.clock_sync
+                check_sensor_order=options.order_check,
+                clock_sync=options.clock_sync,
+                centre_form=options.centre_form,
             ),
             side_check=options.side_check,
         )

@@ -96,3 +96,32 @@ def test_aligned_joints_choose_what_is_refined() -> None:
     assert cal.hip.solver.endswith("+aligned")
     assert not cal.knee.center.solver.endswith("+aligned")
     assert not cal.ankle.solver.endswith("+aligned")
+
+
+def test_cli_centre_form_reaches_the_calibration(tmp_path) -> None:
+    import json
+    import warnings
+
+    from lowerlimb.cli import main
+
+    trial = tmp_path / "t.csv"
+    assert main(["simulate", "--motion", "walk", "--duration", "20", "--seed", "4", "--out", str(trial)]) == 0
+    out = tmp_path / "out"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rc = main(
+            [
+                "calibrate",
+                str(trial),
+                "--out",
+                str(out),
+                "--outputs",
+                "calibration",
+                "--centre-form",
+                "aligned",
+            ]
+        )
+    assert rc == 0
+    joints = json.loads((out / "calibration.json").read_text())["joints"]
+    assert joints["hip"]["solver"].endswith("+aligned")
+    assert not joints["ankle"]["solver"].endswith("+aligned")

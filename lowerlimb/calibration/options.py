@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 from lowerlimb.constraints.angular_acceleration import DEFAULT_POLYORDER, DEFAULT_WINDOW_S
 from lowerlimb.errors import InputError
-from lowerlimb.methods import CALIBRATION_METHODS
+from lowerlimb.methods import CALIBRATION_METHODS, CENTRE_FORMS
 
 __all__ = ["CENTRE_FORMS", "METHODS", "CalibrationOptions", "check_method"]
 
@@ -14,8 +14,6 @@ __all__ = ["CENTRE_FORMS", "METHODS", "CalibrationOptions", "check_method"]
 #: with the analytic Jacobians, the two swarms (Hu 2021 §3.2–3.3), and a swarm
 #: followed by a CasADi refinement.
 METHODS: tuple[str, ...] = tuple(CALIBRATION_METHODS)
-#: The forms of the joint constraint that decide the centres (:attr:`CalibrationOptions.centre_form`).
-CENTRE_FORMS: tuple[str, ...] = ("norm", "aligned")
 
 
 def check_method(method: str) -> str:

@@ -8,7 +8,7 @@ from pathlib import Path
 from lowerlimb.cli._common import EXIT_OK, add_outputs, add_side, chosen_outputs, positive_float
 from lowerlimb.errors import InputError
 from lowerlimb.export.formats import EXPORT_FORMATS
-from lowerlimb.methods import CALIBRATION_METHODS, ORIENTATION_FILTERS
+from lowerlimb.methods import CALIBRATION_METHODS, CENTRE_FORMS, ORIENTATION_FILTERS
 
 
 def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -73,6 +73,14 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "explain the joints' mismatch are removed before calibrating and recorded in calibration.json)",
     )
     p.add_argument(
+        "--centre-form",
+        choices=CENTRE_FORMS,
+        default="norm",
+        help="the joint constraint that decides the hip and knee centres: 'norm' (default, Hu et al. "
+        "2021 eq. 3) or 'aligned' (the 3-D constraint in gyro-aligned frames; unbiased by the low-pass "
+        "on the simulator, mixed on a real walk: docs/limits.md)",
+    )
+    p.add_argument(
         "--export",
         action="append",
         choices=tuple(EXPORT_FORMATS),
@@ -116,6 +124,7 @@ def run(args: argparse.Namespace) -> int:
         side_check=not args.no_side_check,
         order_check=not args.no_order_check,
         clock_sync=not args.no_clock_sync,
+        centre_form=args.centre_form,
         exports=tuple(args.export),
         reference=args.reference,
         outputs=chosen_outputs(args),
