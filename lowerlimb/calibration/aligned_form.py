@@ -46,8 +46,8 @@ non-flexion angle RMSE from 4.9° to 1.2°; with the simulator's real-walk artef
 the length bias goes from −60 / −87 to −20 / −58 mm. On the rig (no low-pass
 needed there) it is no better than the norm form (within 2 mm). On the real walk
 of ``gait/`` the thighs come within 3 mm of Vicon (were −10 / +29) but the shanks
-move from +4 / −5 to +38 / +32 mm and the step width error from 18 to 72 mm median.
-It is therefore an option, not the default (docs/limits.md).
+move from +4 / −5 to +38 / +32 mm and the step width error from 18 to 26 mm median
+(32 worst, was 40). It is therefore an option, not the default (docs/limits.md).
 """
 
 from __future__ import annotations
