@@ -243,3 +243,24 @@ def test_a_study_mixing_one_leg_and_two_leg_trials(tmp_path):
     run_study(root / "manifest.csv", out, params)
     two = {r["trial"]: r for r in _read_batch_csv(out)}["both.csv"]
     assert two["status"] == "failed" and "single-leg option" in two["reason"]
+
+
+def test_centre_form_reaches_every_trial_and_only_then_the_input_hash(tmp_path):
+    assert "centre_form" not in BatchParams().processing_key()  # earlier studies stay up to date
+    assert BatchParams(centre_form="aligned").processing_key()["centre_form"] == "aligned"
+    manifest = _study(tmp_path / "in", 1, corrupt=False)
+    out = tmp_path / "out"
+    argv = [
+        "batch",
+        str(manifest),
+        "--out",
+        str(out),
+        "--workers",
+        "1",
+        "--quiet",
+        "--outputs",
+        "calibration",
+    ]
+    assert main([*argv, "--centre-form", "aligned"]) == 0
+    (cal,) = out.rglob("calibration.json")
+    assert json.loads(cal.read_text())["joints"]["hip"]["solver"].endswith("+aligned")

@@ -20,6 +20,8 @@ class BatchParams:
         method: joint-constraint solver (:data:`lowerlimb.methods.CALIBRATION_METHODS`).
         filter_name: orientation filter (:data:`lowerlimb.methods.ORIENTATION_FILTERS`).
         use_mag: fuse the magnetometer when a trial has one.
+        centre_form: the joint constraint that decides the hip and knee centres
+            (:data:`lowerlimb.methods.CENTRE_FORMS`; ``calibrate --centre-form``).
         outputs: short names of the files written per trial.
         workers: local worker processes; ``None``: one per core.
         force: redo trials whose outputs are complete and up to date.
@@ -35,6 +37,7 @@ class BatchParams:
     method: str = "casadi"
     filter_name: str = "mahony"
     use_mag: bool = True
+    centre_form: str = "norm"
     outputs: frozenset[str] = field(default=ALL_OUTPUTS)
     workers: int | None = None
     force: bool = False
@@ -46,9 +49,12 @@ class BatchParams:
 
     def processing_key(self) -> dict[str, object]:
         """The options that change a trial's outputs (part of its input hash)."""
-        return {
+        key: dict[str, object] = {
             "method": self.method,
             "filter": self.filter_name,
             "use_mag": self.use_mag,
             "outputs": sorted(self.outputs),
         }
+        if self.centre_form != "norm":  # the default leaves the studies run before it up to date
+            key["centre_form"] = self.centre_form
+        return key

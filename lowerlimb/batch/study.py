@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 from lowerlimb.errors import InputError
 from lowerlimb.io.result_files import OUTPUT_FILES, check_outputs
-from lowerlimb.methods import CALIBRATION_METHODS, ORIENTATION_FILTERS
+from lowerlimb.methods import CALIBRATION_METHODS, CENTRE_FORMS, ORIENTATION_FILTERS
 
 from .manifest import StudyTrial, read_study
 from .params import BatchParams
@@ -201,6 +201,8 @@ def _checked(p: BatchParams) -> BatchParams:
         )
     if p.filter_name not in ORIENTATION_FILTERS:
         raise InputError(f"unknown filter {p.filter_name!r}; use one of {', '.join(ORIENTATION_FILTERS)}")
+    if p.centre_form not in CENTRE_FORMS:
+        raise InputError(f"unknown centre form {p.centre_form!r}; use one of {', '.join(CENTRE_FORMS)}")
     if p.workers is not None and p.workers < 1:
         raise InputError(f"--workers {p.workers}: give at least 1")
     return replace(p, outputs=check_outputs(p.outputs))

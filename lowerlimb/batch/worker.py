@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from lowerlimb.bilateral import BilateralResult, process_bilateral_trial
+from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.conventions import ANGLE_COLUMNS
 from lowerlimb.errors import InputError
 from lowerlimb.io.bilateral_trial import BilateralTrial, read_header, trial_layout
@@ -109,6 +110,7 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
             height_m=trial.height_m,
             mass_kg=trial.mass_kg,
             use_mag=p.use_mag,
+            calibration_options=CalibrationOptions(centre_form=p.centre_form),
         )
         return bilateral_key_results(both), lambda d: _write_two_legs(both, d, p.outputs)
     imu = ImuTrial.from_csv(trial.path, side=trial.side)
@@ -123,6 +125,7 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
         mass_kg=trial.mass_kg,
         use_mag=p.use_mag,
         calibration=previous,
+        calibration_options=CalibrationOptions(centre_form=p.centre_form),
     )
     return key_results(result), lambda d: write_outputs(result, d, files=p.outputs)
 

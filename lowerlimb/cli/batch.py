@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from lowerlimb.cli._common import EXIT_INTERNAL, EXIT_OK, add_outputs, chosen_outputs
-from lowerlimb.methods import CALIBRATION_METHODS, ORIENTATION_FILTERS
+from lowerlimb.methods import CALIBRATION_METHODS, CENTRE_FORMS, ORIENTATION_FILTERS
 
 
 def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -39,6 +39,12 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "--filter", choices=tuple(ORIENTATION_FILTERS), default="mahony", help="orientation filter"
     )
     p.add_argument("--no-mag", action="store_true", help="ignore magnetometer columns (6-axis fusion)")
+    p.add_argument(
+        "--centre-form",
+        choices=CENTRE_FORMS,
+        default="norm",
+        help="the joint constraint that decides the hip and knee centres (as calibrate --centre-form)",
+    )
     add_outputs(p)
 
 
@@ -50,6 +56,7 @@ def run(args: argparse.Namespace) -> int:
         method=args.method,
         filter_name=args.filter,
         use_mag=not args.no_mag,
+        centre_form=args.centre_form,
         outputs=chosen_outputs(args),
         workers=args.workers,
         force=args.force,
