@@ -35,7 +35,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from gait import _module  # noqa: E402  (benchmarks/gait.py: load a sibling benchmark by name)
+from gait import _module, add_walk_arguments  # noqa: E402  (benchmarks/gait.py)
 
 from lowerlimb.bilateral import process_bilateral_trial  # noqa: E402
 from lowerlimb.calibration._prepare import prepare_signals  # noqa: E402
@@ -243,10 +243,7 @@ def markdown(res: dict[str, Any]) -> str:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
-    ap.add_argument("--seeds", type=int, nargs="+", default=[201, 202, 203, 204, 205, 206])
-    ap.add_argument("--duration", type=float, default=60.0)
-    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
+    add_walk_arguments(ap)
     args = ap.parse_args()
     res: dict[str, Any] = {"seeds": args.seeds, "duration_s": args.duration}
     res["rigid"] = simulated(args.seeds, args.duration, None)

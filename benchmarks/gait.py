@@ -503,12 +503,17 @@ def _main_artefacts(args: argparse.Namespace) -> None:
     print(markdown_artefacts(res))
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def add_walk_arguments(ap: argparse.ArgumentParser) -> None:
+    """``--data``, ``--seeds``, ``--duration`` and ``--out`` of the seven-IMU walk benchmarks."""
     ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
     ap.add_argument("--seeds", type=int, nargs="+", default=[201, 202, 203, 204, 205, 206])
     ap.add_argument("--duration", type=float, default=60.0)
     ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    add_walk_arguments(ap)
     ap.add_argument(
         "--artefacts",
         choices=("none", "real"),
