@@ -35,15 +35,17 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from gait import _module, add_walk_arguments  # noqa: E402  (benchmarks/gait.py)
+from gait import _module, add_walk_arguments, true_leg  # noqa: E402  (benchmarks/gait.py)
 
 from lowerlimb.bilateral import process_bilateral_trial  # noqa: E402
 from lowerlimb.calibration._prepare import prepare_signals  # noqa: E402
 from lowerlimb.calibration.aligned_form import AlignedSettings, aligned_centres  # noqa: E402
+from lowerlimb.calibration.leg import calibrate_leg  # noqa: E402
 from lowerlimb.calibration.options import CalibrationOptions  # noqa: E402
 from lowerlimb.io import load_xsens  # noqa: E402
 from lowerlimb.io.bilateral_trial import BilateralTrial  # noqa: E402
-from lowerlimb.simulation import Artefacts  # noqa: E402
+from lowerlimb.model.fallback import segment_lengths  # noqa: E402
+from lowerlimb.simulation import Artefacts, simulate  # noqa: E402
 
 FORMS = ("norm", "aligned")
 
@@ -78,6 +80,42 @@ def simulated(seeds: list[int], duration_s: float, artefacts: Artefacts | None) 
             "failed": failed,
         }
     return out
+
+
+#: One-leg simulated motions (``simulate``), seeds 0 and 1, 60 s: the milder simulator of issue 1-10.
+ONE_LEG_MOTIONS = ("walk", "squat", "knee-lift", "sit-to-stand")
+
+
+def _mm(a: np.ndarray, b: np.ndarray) -> float:
+    return 1000.0 * float(np.linalg.norm(np.asarray(a) - np.asarray(b)))
+
+
+def one_leg(duration_s: float) -> list[dict[str, Any]]:
+    """Both forms on one-leg simulated motions: length errors and hip centre errors, mm."""
+    rows = []
+    for motion in ONE_LEG_MOTIONS:
+        for seed in (0, 1):
+            sim = simulate(motion, duration_s, seed)
+            truth = true_leg(sim.truth["joints"])
+            true_len = np.array(segment_lengths(truth))  # type: ignore[arg-type]
+            row: dict[str, Any] = {"motion": motion, "seed": seed}
+            for form in FORMS:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    cal = calibrate_leg(sim.trial, options=CalibrationOptions(centre_form=form))
+                row[form] = {
+                    "length_err_mm": list(1000.0 * (np.array(segment_lengths(cal)) - true_len)),
+                    "hip_in_pelvis_mm": 1000.0
+                    * float(
+                        np.linalg.norm(cal.hip.center_in_parent_sensor - truth.hip.center_in_parent_sensor)
+                    ),
+                    "hip_in_thigh_mm": 1000.0
+                    * float(
+                        np.linalg.norm(cal.hip.center_in_child_sensor - truth.hip.center_in_child_sensor)
+                    ),
+                }
+            rows.append(row)
+    return rows
 
 
 def real_walk(data: Path) -> dict[str, Any]:
@@ -201,6 +239,25 @@ def markdown(res: dict[str, Any]) -> str:
     ]
     L += _sim_lines("Rigid sensors", res["rigid"])
     L += _sim_lines("With the real-walk artefacts", res["artefacts"])
+    if res.get("one_leg"):
+        L += [
+            "## One-leg simulated motions (`simulate`, 60 s, seeds 0 and 1)",
+            "",
+            "Thigh / shank length error, hip in the pelvis sensor, hip in the thigh sensor (mm):",
+            "",
+            "| motion | seed | norm | aligned |",
+            "|---|---|---|---|",
+        ]
+        for row in res["one_leg"]:
+            cells = []
+            for form in FORMS:
+                r = row[form]
+                e = r["length_err_mm"]
+                cells.append(
+                    f"{e[0]:+.1f} / {e[1]:+.1f}, {r['hip_in_pelvis_mm']:.1f}, {r['hip_in_thigh_mm']:.1f}"
+                )
+            L.append(f"| {row['motion']} | {row['seed']} | {cells[0]} | {cells[1]} |")
+        L += [""]
     if res.get("real"):
         L += ["## Real walk (gait/, against Vicon Plug-in Gait)", "", "| quantity | norm | aligned |"]
         L += ["|---|---|---|"]
@@ -248,6 +305,7 @@ def main() -> None:
     res: dict[str, Any] = {"seeds": args.seeds, "duration_s": args.duration}
     res["rigid"] = simulated(args.seeds, args.duration, None)
     res["artefacts"] = simulated(args.seeds, args.duration, Artefacts.real_walk())
+    res["one_leg"] = one_leg(args.duration)
     if (args.data / "gait").is_dir():
         res["real"] = real_walk(args.data)
     if (args.data / "rig").is_dir():

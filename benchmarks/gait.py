@@ -129,18 +129,21 @@ def _joint_errors(res: Any, truth: dict[str, Any]) -> dict[str, list[float]]:
 LENGTH_LABELS = ("thigh length (hip to knee axis), mm", "shank length (ankle to knee axis), mm")
 
 
+def true_leg(joints: dict[str, Any]) -> SimpleNamespace:
+    """A leg's true joints (calibration.json schema) as the calibration's objects (hip, knee, ankle)."""
+    return SimpleNamespace(
+        hip=SphericalJointCalibration.from_dict(joints["hip"], "hip"),
+        knee=HingeJointCalibration.from_dict(joints["knee"]),
+        ankle=SphericalJointCalibration.from_dict(joints["ankle"], "ankle"),
+    )
+
+
 def _length_errors(res: Any, truth: dict[str, Any]) -> dict[str, list[float]]:
     """Signed thigh and shank length errors of each leg, mm (``model.fallback.segment_lengths``)."""
     out: dict[str, list[float]] = {label: [] for label in LENGTH_LABELS}
     for side in SIDES:
-        joints = truth["legs"][side]["joints"]
-        true_leg = SimpleNamespace(
-            hip=SphericalJointCalibration.from_dict(joints["hip"], "hip"),
-            knee=HingeJointCalibration.from_dict(joints["knee"]),
-            ankle=SphericalJointCalibration.from_dict(joints["ankle"], "ankle"),
-        )
         est = segment_lengths(res.legs[side].calibration)
-        tru = segment_lengths(true_leg)  # type: ignore[arg-type]
+        tru = segment_lengths(true_leg(truth["legs"][side]["joints"]))  # type: ignore[arg-type]
         for label, e, t in zip(LENGTH_LABELS, est, tru, strict=True):
             out[label].append(1000.0 * (e - t))
     return out

@@ -43,8 +43,9 @@ to the hip and the knee, the ankle keeps the norm form): on six rigid simulated
 walks the thigh and shank length bias goes from −21 / −24 mm to −5 / −5 mm (worst
 79 → 18 mm), the hip in the pelvis sensor from 85 to 5 mm median and the worst
 non-flexion angle RMSE from 4.9° to 1.2°; with the simulator's real-walk artefacts
-the length bias goes from −60 / −87 to −20 / −58 mm. On the rig (no low-pass
-needed there) it is no better than the norm form (within 2 mm). On the real walk
+the length bias goes from −60 / −87 to −20 / −60 mm. Where no low cut-off biases
+the norm form it does not help: on the rig (within 2 mm of the norm form) and on
+the one-leg simulator (a walk's hip in the pelvis sensor 2 → 17 mm). On the real walk
 of ``gait/`` the thighs come within 3 mm of Vicon (were −10 / +29) but the shanks
 move from +4 / −5 to +38 / +32 mm and the step width error from 18 to 26 mm median
 (32 worst, was 40). It is therefore an option, not the default (docs/limits.md).
