@@ -457,6 +457,8 @@ def build_provenance(options: CalibrateOptions) -> dict[str, Any]:
             "mass": options.mass_kg,
             "use_mag": options.use_mag,
             "s2j": None if options.s2j is None else str(options.s2j),
+            "clock_sync": options.clock_sync,
+            "centre_form": options.centre_form,
         },
         "calibration_reused_from": None if options.calibration is None else str(options.calibration),
     }

@@ -15,6 +15,7 @@ import json
 import sys
 import warnings
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -28,7 +29,14 @@ from .io.bilateral_tables import write_bilateral_tables
 from .io.bilateral_trial import BilateralTrial
 from .io.bounds import INPUT_BOUNDS
 from .io.result_files import OUTPUT_FILES, check_outputs
-from .outputs import CalibrateOptions, _print_warnings, announce, check_options, residual_lines
+from .outputs import (
+    CalibrateOptions,
+    _print_warnings,
+    announce,
+    build_provenance,
+    check_options,
+    residual_lines,
+)
 
 __all__ = [
     "LEG_URDF_FILES",
@@ -66,6 +74,7 @@ def write_bilateral_outputs(
     *,
     files: frozenset[str] = frozenset(OUTPUT_FILES),
     exports: tuple[str, ...] = (),
+    provenance: dict[str, Any] | None = None,
 ) -> list[str]:
     """Write the outputs of a processed two-leg trial into the existing, empty ``directory``.
 
@@ -76,6 +85,8 @@ def write_bilateral_outputs(
             write; ``s2j`` does not apply to two legs. ``events.csv``, ``stationary.csv`` and
             ``gait.json`` are always written.
         exports: extra formats (``opensim``, ``bids``; :mod:`lowerlimb.export.bilateral`).
+        provenance: calibration.json's ``provenance``
+            (:func:`~lowerlimb.outputs.build_provenance`), or ``None``.
 
     Returns:
         The names of the files written.
@@ -86,6 +97,8 @@ def write_bilateral_outputs(
     urdf = write_lower_body_urdf(result, directory) if "urdf" in files else []
     written += urdf
     d = result.calibration_dict()
+    if provenance is not None:
+        d["provenance"] = provenance
     d["urdf"] = urdf
     if "calibration" in files:
         (directory / "calibration.json").write_text(json.dumps(d, indent=2), encoding="utf-8")
@@ -111,17 +124,18 @@ def write_bilateral_result(
     *,
     files: frozenset[str] = frozenset(OUTPUT_FILES),
     exports: tuple[str, ...] = (),
+    provenance: dict[str, Any] | None = None,
 ) -> None:
     """Create the folder ``out`` holding the chosen outputs of ``result``, or nothing at all.
 
-    ``files`` and ``exports`` as in :func:`write_bilateral_outputs`.
+    ``files``, ``exports`` and ``provenance`` as in :func:`write_bilateral_outputs`.
 
     Raises:
         InputError: ``out`` exists and is not empty, or its parent does not exist.
     """
 
     def fill(d: Path) -> None:
-        write_bilateral_outputs(result, d, files=files, exports=exports)
+        write_bilateral_outputs(result, d, files=files, exports=exports, provenance=provenance)
 
     populate_directory(out, fill)
 
@@ -249,7 +263,9 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
             side_check=options.side_check,
         )
     _print_warnings(caught)
-    write_bilateral_result(result, out, files=files, exports=tuple(options.exports))
+    write_bilateral_result(
+        result, out, files=files, exports=tuple(options.exports), provenance=build_provenance(options)
+    )
     print(f"joint calibration of both legs took {result.runtime_s:.3f} s; wrote {out}/", file=sys.stderr)
     for side in SIDES:
         for line in residual_lines(result.legs[side].calibration_dict()):

@@ -186,7 +186,7 @@ def test_exports_and_chosen_outputs_of_two_legs(two_legs, tmp_path: Path):
 
 
 def test_outputs_have_the_two_leg_columns_and_keys(two_legs):
-    _, out = two_legs
+    csv, out = two_legs
     names = sorted(p.name for p in out.iterdir())
     for f in ("angles.csv", "positions.csv", "events.csv", "gait.json", "calibration.json", "report.html"):
         assert f in names
@@ -203,6 +203,9 @@ def test_outputs_have_the_two_leg_columns_and_keys(two_legs):
     cal = json.loads((out / "calibration.json").read_text())
     assert cal["format"] == "lowerlimb-calibration/1" and cal["runtime_s"] > 0
     assert cal["shared_pelvis_heading"] is True
+    prov = cal["provenance"]  # as a one-leg calibration.json: versions, input, options
+    assert prov["input_file"] == str(csv) and len(prov["input_sha256"]) == 64
+    assert prov["options"]["centre_form"] == "norm" and prov["options"]["clock_sync"] is True
     for side in SIDES:
         joints = cal["legs"][side]["joints"]
         assert joints["hip"]["parent_sensor"] == "pelvis" and joints["hip"]["child_sensor"] == "thigh"

@@ -63,6 +63,7 @@ def test_calibration_json_records_its_provenance(calibrated):
     options = prov["options"]
     assert (options["side"], options["filter"], options["method"]) == ("left", "mahony", "casadi")
     assert (options["height"], options["mass"]) == (1.8, 75.0)
+    assert (options["clock_sync"], options["centre_form"]) == (True, "norm")
     assert prov["calibration_reused_from"] is None
 
 
