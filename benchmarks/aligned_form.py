@@ -202,6 +202,91 @@ def rig(data: Path) -> list[dict[str, Any]]:
     return rows
 
 
+#: Cut-offs the RING chain is calibrated at (``None``: the adaptive one, unfiltered at 40 Hz).
+RING_CUTOFFS = (None, 5.0)
+
+
+def _aligned_pair(ctx: dict[str, Any], p: int, c: int, start: np.ndarray, gauge: Any = None) -> Any:
+    """The aligned fit of sensors ``p`` (parent) and ``c`` of a chain (``ctx``: signals, biases, settings)."""
+    acc, gyr, bias = ctx["acc"], ctx["gyr"], ctx["bias"]
+    return aligned_centres(
+        acc[str(p)], gyr[str(p)] - bias[str(p)], acc[str(c)], gyr[str(c)] - bias[str(c)],
+        rate_hz=ctx["rate"], cutoff_hz=ctx["fc"], start=start, settings=ctx["settings"], gauge_axes=gauge,
+    )  # fmt: skip
+
+
+def ring_chain(data: Path) -> list[dict[str, Any]]:
+    """Both forms on the RING chain at the same cut-offs: seg4's joint-to-joint length, the ball joint."""
+    from lowerlimb.calibration import calibrate_hinge_joint, calibrate_spherical_joint
+
+    r = _module("ring")
+    rows = []
+    for rec in ("rigid", "nonrigid"):
+        imu = r.load_imu(data / "ring" / f"trial1_imu_{rec}.csv")
+        acc = {str(k): v["acc"] for k, v in imu.items()}
+        gyr = {str(k): v["gyr"] for k, v in imu.items()}
+        for fc in RING_CUTOFFS:
+            opts = CalibrationOptions(cutoff_hz=fc)
+            sig = prepare_signals(acc, gyr, r.RATE_HZ, opts)
+            settings = AlignedSettings(
+                opts.aligned_window_s, opts.aligned_iterations, opts.angacc_window_s, opts.angacc_polyorder
+            )
+
+            ctx = {
+                "acc": acc,
+                "gyr": gyr,
+                "bias": sig.gyro_bias,
+                "fc": fc,
+                "settings": settings,
+                "rate": r.RATE_HZ,
+            }
+            row: dict[str, Any] = {"recording": rec, "cutoff_hz": fc}
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                h = {
+                    (p, c): calibrate_hinge_joint(
+                        imu[p]["acc"],
+                        imu[p]["gyr"],
+                        imu[c]["acc"],
+                        imu[c]["gyr"],
+                        rate_hz=r.RATE_HZ,
+                        options=opts,
+                    )  # fmt: skip
+                    for p, c in ((3, 4), (4, 5))
+                }
+                s = calibrate_spherical_joint(
+                    imu[1]["acc"],
+                    imu[1]["gyr"],
+                    imu[2]["acc"],
+                    imu[2]["gyr"],
+                    rate_hz=r.RATE_HZ,
+                    options=opts,
+                )
+            a = {
+                pc: _aligned_pair(
+                    ctx,
+                    *pc,
+                    np.r_[j.center_in_parent_sensor, j.center_in_child_sensor],
+                    (j.axis_in_parent_sensor, j.axis_in_child_sensor),
+                )
+                for pc, j in h.items()
+            }
+            b = _aligned_pair(ctx, 1, 2, np.r_[s.center_in_parent_sensor, s.center_in_child_sensor])
+            row["seg4_mm"] = {
+                "norm": 1000 * (h[4, 5].center_in_parent_sensor[0] - h[3, 4].center_in_child_sensor[0]),
+                "aligned": 1000 * (a[4, 5].center_in_parent[0] - a[3, 4].center_in_child[0]),
+            }
+            row["ball_err_mm"] = {
+                "norm": [_mm(s.center_in_parent_sensor, r.JOINT_IN_PARENT_IMU),
+                         _mm(s.center_in_child_sensor, r.JOINT_IN_CHILD_IMU)],
+                "aligned": [_mm(b.center_in_parent, r.JOINT_IN_PARENT_IMU),
+                            _mm(b.center_in_child, r.JOINT_IN_CHILD_IMU)],
+            }  # fmt: skip
+            row["seg4_optical_mm"] = 1000 * r.omc_seg4_length(data / "ring" / "trial1_omc.csv")
+            rows.append(row)
+    return rows
+
+
 def _cell(st: dict[str, float]) -> str:
     return f"{st['median_abs']:.1f} / {st['worst_abs']:.1f} / {st['bias']:+.1f}"
 
@@ -288,6 +373,21 @@ def markdown(res: dict[str, Any]) -> str:
                 ]
                 L.append(f"| {key} | " + " | ".join(cells) + " |")
             L += [""]
+    if res.get("ring"):
+        opt = res["ring"][0]["seg4_optical_mm"]
+        L += [
+            f"## RING chain (ring/, real IMUs, 40 Hz; foam-mounted in `nonrigid`): seg4's joint-to-joint "
+            f"length (optical {opt:.1f} mm) and the ball joint's centre error (IMU1 / IMU2)",
+            "",
+            "| recording | cut-off | seg4 norm | seg4 aligned | ball norm | ball aligned |",
+            "|---|---|---|---|---|---|",
+        ]
+        for row in res["ring"]:
+            fc = "adaptive" if row["cutoff_hz"] is None else f"{row['cutoff_hz']:g} Hz"
+            sn, sa = (row["seg4_mm"][f] for f in FORMS)
+            bn, ba = (" / ".join(f"{v:.0f}" for v in row["ball_err_mm"][f]) for f in FORMS)
+            L.append(f"| {row['recording']} | {fc} | {sn:.1f} | {sa:.1f} | {bn} | {ba} |")
+        L += [""]
     if res.get("rig"):
         L += ["## Rig (rig/, exact centres): centre error sensor 1 / sensor 2, mm", ""]
         L += ["| trial | norm | aligned |", "|---|---|---|"]
@@ -308,6 +408,8 @@ def main() -> None:
     res["one_leg"] = one_leg(args.duration)
     if (args.data / "gait").is_dir():
         res["real"] = real_walk(args.data)
+    if (args.data / "ring").is_dir():
+        res["ring"] = ring_chain(args.data)
     if (args.data / "rig").is_dir():
         res["rig"] = rig(args.data)
     args.out.mkdir(parents=True, exist_ok=True)
