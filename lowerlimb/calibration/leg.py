@@ -36,7 +36,6 @@ from lowerlimb.calibration._prepare import (
     joint_signals,
     prepare_signals,
 )
-from lowerlimb.calibration.aligned_form import AlignedSettings, aligned_centres
 from lowerlimb.calibration.cutoff_probe import with_cutoff_shifts
 from lowerlimb.calibration.excitation import issue_warnings
 from lowerlimb.calibration.hinge_joint import fit_hinge_joint
@@ -359,6 +358,10 @@ def _aligned(
     stance width from 29.5 to 22 cm (Vicon: 30.9) and its step-width error from 18 to 72 mm,
     and the simulator's angles and lengths do not change either way.
     """
+    # imported here: the strapdown kernel loads numba and scipy's rotations (~0.2 s), which a
+    # default calibration (the norm form) does not need
+    from lowerlimb.calibration.aligned_form import AlignedSettings, aligned_centres
+
     o = options
     settings = AlignedSettings(
         o.aligned_window_s, o.aligned_iterations, o.angacc_window_s, o.angacc_polyorder
