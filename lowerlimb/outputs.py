@@ -258,6 +258,8 @@ class CalibrateOptions:
             signals when they are offset (:mod:`lowerlimb.calibration.clock_sync`).
         centre_form: the form of the joint constraint that decides the hip and knee centres
             (:attr:`~lowerlimb.calibration.options.CalibrationOptions.centre_form`).
+        hip_in_pelvis_form: the form that decides the hip centre in the pelvis sensor
+            (:attr:`~lowerlimb.calibration.options.CalibrationOptions.hip_in_pelvis_form`).
         exports: extra formats to write (``"opensim"``, ``"bids"``; docs/exports.md).
         reference: a reference CSV (``time`` and columns named as ours, deg / m) whose
             agreement with the result goes into ``report.html``.
@@ -278,6 +280,7 @@ class CalibrateOptions:
     order_check: bool = True
     clock_sync: bool = True
     centre_form: str = "norm"
+    hip_in_pelvis_form: str = "aligned"
     exports: tuple[str, ...] = ()
     reference: Path | None = None
     outputs: frozenset[str] = frozenset(OUTPUT_FILES)
@@ -358,6 +361,7 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
                 check_sensor_order=options.order_check,
                 clock_sync=options.clock_sync,
                 centre_form=options.centre_form,
+                hip_in_pelvis_form=options.hip_in_pelvis_form,
             ),
             side_check=options.side_check,
         )
@@ -459,6 +463,7 @@ def build_provenance(options: CalibrateOptions) -> dict[str, Any]:
             "s2j": None if options.s2j is None else str(options.s2j),
             "clock_sync": options.clock_sync,
             "centre_form": options.centre_form,
+            "hip_in_pelvis_form": options.hip_in_pelvis_form,
         },
         "calibration_reused_from": None if options.calibration is None else str(options.calibration),
     }

@@ -259,6 +259,7 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
                 check_sensor_order=options.order_check,
                 clock_sync=options.clock_sync,
                 centre_form=options.centre_form,
+                hip_in_pelvis_form=options.hip_in_pelvis_form,
             ),
             side_check=options.side_check,
         )

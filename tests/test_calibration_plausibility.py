@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from simcache import cached_simulation
@@ -89,3 +91,16 @@ def test_the_pelvis_turns_with_the_simulated_leg_that_swings(side):
     if side == "right":  # the same leg with the left leg's (unmirrored) pelvis reads as a left leg
         t2 = cached_simulation("walk", 30.0, 7, side=side, mirror_pelvis=False).trial
         assert pelvis_turn_side_cue(t2.gyr["pelvis"], t2.gyr["thigh"], knee, up, t.rate_hz) < -0.15
+
+
+@pytest.mark.parametrize(("cue", "refused"), [(0.3, True), (-0.3, False), (0.05, False), (None, False)])
+def test_an_agreeing_pelvis_turn_lets_an_uncertain_hip_decide(cue, refused):
+    """A contrary hip within two of its standard deviations decides only with the turn cue behind it."""
+    hip_on_the_right = np.array([0.15, -0.05, 0.035])  # given: left; 1.75 sigma
+    if refused:
+        with pytest.raises(WrongSideError):
+            check_side("left", hip_on_the_right, hip_std_m=0.02, pelvis_turn=cue)
+    else:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", SideEvidenceWarning)
+            check_side("left", hip_on_the_right, hip_std_m=0.02, pelvis_turn=cue)

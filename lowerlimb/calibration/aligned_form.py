@@ -162,6 +162,7 @@ def aligned_centres(
     settings: AlignedSettings,
     keep: ArrayLike | None = None,
     gauge_axes: tuple[ArrayLike, ArrayLike] | None = None,
+    fixed_child: bool = False,
 ) -> AlignedFit:
     """A joint's centres in both sensor frames from the aligned 3-D form (module docstring).
 
@@ -176,6 +177,8 @@ def aligned_centres(
         settings: windows, passes and the α derivative.
         keep: (N,) booleans, the samples to fit (``None``: all), e.g. without impacts.
         gauge_axes: ``(j_P, j_C)`` of a hinge: the centres are solved in the eq. 16 gauge.
+        fixed_child: hold ``c_C`` at its start and solve ``c_P`` alone (the parent's
+            centre given the child's, e.g. the hip in a pelvis that barely turns).
 
     Returns:
         The centres and the fit's RMS residual.
@@ -191,6 +194,8 @@ def aligned_centres(
         M = np.zeros((6, 6))
         M[:3, :3], M[3:, 3:] = Qp, Qc
         M = M @ AXIS_GAUGE_MAP
+    if fixed_child:
+        M = np.eye(6)[:, :3]
     n_win = max(1, int(round(n / (settings.window_s * rate_hz))))
     edges = np.linspace(0, n, n_win + 1).astype(int)
     x = np.asarray(start, dtype=float).copy()
@@ -204,9 +209,12 @@ def aligned_centres(
         if n_used == 0:  # nothing kept to align on: the start stands
             break
         D = _rotations_at(rots, centres, n)
+        DK = D @ C.kin
         b = (np.einsum("nij,nj->ni", D, C.acc) - P.acc)[k].reshape(-1)
-        A = (np.concatenate([P.kin, -(D @ C.kin)], axis=2)[k].reshape(-1, 6)) @ M
+        if fixed_child:
+            b = b + (DK @ x[3:])[k].reshape(-1)
+        A = (np.concatenate([P.kin, -DK], axis=2)[k].reshape(-1, 6)) @ M
         y = np.linalg.lstsq(A, b, rcond=None)[0]
-        x = M @ y
+        x = M @ y + (np.concatenate([np.zeros(3), x[3:]]) if fixed_child else 0.0)
         rms = float(np.sqrt(np.mean((A @ y - b) ** 2)))
     return AlignedFit(x[:3].copy(), x[3:].copy(), rms, n_used)

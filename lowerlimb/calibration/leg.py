@@ -313,7 +313,7 @@ def calibrate_leg(
     if opts.cutoff_probe:
         setup = {"hip": (p, c, hip_prior, hip_keep), "ankle": (pa, ca, ankle_prior, ankle_keep)}
         hip, ankle = _probe_cutoffs(hip, ankle, setup, acc, gyr, sig, method, opts)
-    if opts.centre_form == "aligned":
+    if opts.centre_form == "aligned" or opts.hip_in_pelvis_form == "aligned":
         keeps = {"hip": hip_keep, "ankle": ankle_keep}
         hip, knee, ankle = _aligned(hip, knee, ankle, acc, gyr, sig, caps, keeps, opts)
     priors = {n: pr.to_dict() for n, pr in (("hip", hip_prior), ("ankle", ankle_prior)) if pr is not None}
@@ -348,8 +348,10 @@ def _aligned(
 ) -> tuple[SphericalJointCalibration, HingeJointCalibration, SphericalJointCalibration]:
     """Hip and knee centres refined by the aligned 3-D form at their joints' cut-offs.
 
-    See :mod:`~lowerlimb.calibration.aligned_form`; each fit starts from the norm form's
-    centres. The ankle keeps the norm form: its pair is rarely filtered (the form's
+    With ``centre_form="norm"`` only the hip centre in the pelvis sensor is taken from
+    it, given the norm form's centre in the thigh sensor (``hip_in_pelvis_form``,
+    :func:`_pelvis_side`). See :mod:`~lowerlimb.calibration.aligned_form`; each fit starts
+    from the norm form's centres. The ankle keeps the norm form: its pair is rarely filtered (the form's
     reason) and carries the heel-strike impacts, and there the aligned fit was worse
     on the simulator (ankle in the shank sensor 2.6 → 15 mm). The knee takes the aligned
     fit across its axis only (the lever arms, the segment lengths); along the axis the
@@ -358,8 +360,8 @@ def _aligned(
     stance width from 29.5 to 22 cm (Vicon: 30.9) and its step-width error from 18 to 72 mm,
     and the simulator's angles and lengths do not change either way.
     """
-    # imported here: the strapdown kernel loads numba and scipy's rotations (~0.2 s), which a
-    # default calibration (the norm form) does not need
+    # imported here: the strapdown kernel loads numba and scipy's rotations (~0.2 s), which
+    # the single-joint entry points (calibrate_spherical_joint, …) do not need
     from lowerlimb.calibration.aligned_form import AlignedSettings, aligned_centres
 
     o = options
@@ -368,7 +370,10 @@ def _aligned(
     )
 
     def refit(
-        joint: str, res: SphericalJointCalibration, gauge: tuple[FloatArray, FloatArray] | None
+        joint: str,
+        res: SphericalJointCalibration,
+        gauge: tuple[FloatArray, FloatArray] | None,
+        fixed_child: bool = False,
     ) -> SphericalJointCalibration:
         p, c, _ = JOINT_SENSORS[joint]
         cutoff = _one_cutoff(joint_cutoffs_hz(sig.cutoff_hz[p], sig.cutoff_hz[c], caps.get(f"{p}-{c}"), o))
@@ -383,6 +388,7 @@ def _aligned(
             settings=settings,
             keep=keeps.get(joint),
             gauge_axes=gauge,
+            fixed_child=fixed_child,
         )
         x = np.concatenate([fit.center_in_parent, fit.center_in_child])
         if not np.all(np.abs(x) < o.center_bound_m):
@@ -399,12 +405,31 @@ def _aligned(
             solver=f"{res.solver}+aligned",
         )
 
-    if "knee" in o.aligned_joints:
+    whole = o.centre_form == "aligned"
+    if whole and "knee" in o.aligned_joints:
         gauge = (knee.axis_in_parent_sensor, knee.axis_in_child_sensor)
         knee = replace(knee, center=_across_axis(refit("knee", knee.center, gauge), knee.center, gauge))
-    if "hip" in o.aligned_joints:
+    if whole and "hip" in o.aligned_joints:
         hip = refit("hip", hip, None)
+    elif o.hip_in_pelvis_form == "aligned":
+        hip = _pelvis_side(refit("hip", hip, None, fixed_child=True), hip)
     return hip, knee, ankle
+
+
+def _pelvis_side(new: SphericalJointCalibration, old: SphericalJointCalibration) -> SphericalJointCalibration:
+    """``new``'s hip centre in the pelvis sensor (fitted given ``old``'s in the thigh sensor).
+
+    Why: the norm form cannot place the centre in a sensor that barely turns (the
+    pelvis in walking) once the pair is low-passed, while the thigh's large rotation
+    decides its side in either form; there the two forms disagree on the real walk by
+    more than either's agreement with Vicon (``benchmarks/results/aligned_form.md``), and
+    the norm form's side is kept.
+    """
+    if new is old or np.array_equal(new.center_in_parent_sensor, old.center_in_parent_sensor):
+        return new  # the aligned fit was not used (search box): nothing to mix
+    return replace(
+        new, center_in_child_sensor=old.center_in_child_sensor, solver=f"{old.solver}+aligned(pelvis side)"
+    )
 
 
 def _across_axis(

@@ -81,6 +81,14 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "on the simulator, mixed on a real walk: docs/limits.md)",
     )
     p.add_argument(
+        "--hip-in-pelvis-form",
+        choices=CENTRE_FORMS,
+        default="aligned",
+        help="the constraint that decides the hip centre in the pelvis sensor when --centre-form is "
+        "'norm': 'aligned' (default; the pelvis barely turns and the norm form misplaces it by "
+        "centimetres to decimetres) or 'norm' (the form of the other centres)",
+    )
+    p.add_argument(
         "--export",
         action="append",
         choices=tuple(EXPORT_FORMATS),
@@ -125,6 +133,7 @@ def run(args: argparse.Namespace) -> int:
         order_check=not args.no_order_check,
         clock_sync=not args.no_clock_sync,
         centre_form=args.centre_form,
+        hip_in_pelvis_form=args.hip_in_pelvis_form,
         exports=tuple(args.export),
         reference=args.reference,
         outputs=chosen_outputs(args),

@@ -27,12 +27,22 @@ def _strapdown(gyr: FloatArray, dt: float) -> FloatArray:  # pragma: no cover - 
     w, x, y, z = 1.0, 0.0, 0.0, 0.0
     for i in range(n):
         put_quat(out, i, w, x, y, z)
-        w, x, y, z = qintegrate(w, x, y, z, gyr[i, 0], gyr[i, 1], gyr[i, 2], dt)
+        if i + 1 < n:  # the trapezoid: the mean rate over the step, not the rate at its start
+            gx = 0.5 * (gyr[i, 0] + gyr[i + 1, 0])
+            gy = 0.5 * (gyr[i, 1] + gyr[i + 1, 1])
+            gz = 0.5 * (gyr[i, 2] + gyr[i + 1, 2])
+            w, x, y, z = qintegrate(w, x, y, z, gx, gy, gz, dt)
     return out
 
 
 def strapdown_quat(gyr: ArrayLike, rate_hz: float) -> FloatArray:
-    """Integrate a gyro from the identity: sample k's attitude after the rotations of samples 0…k−1.
+    """Integrate a gyro from the identity: the attitude at each sample's time.
+
+    Each step turns by the mean of its two end samples' rates (the trapezoid). The
+    rate at the step's start alone (the rectangle) lags the attitude by half a
+    sample, ω·dt/2 (0.9° at 3 rad/s and 100 Hz), and carrying a sensor's specific
+    force into the integration frame with that lag put a noise-free squat's hip
+    centre 7 mm off in the aligned form (0.1 mm with the trapezoid).
 
     Args:
         gyr: (N, 3) angular velocity, sensor frame, rad/s (bias removed as far as known).
