@@ -1,7 +1,15 @@
 """The norm form against the aligned 3-D form of the joint constraint, on the same data.
 
-``CalibrationOptions(centre_form="aligned")`` (:mod:`lowerlimb.calibration.aligned_form`)
-against the defaults (``"norm"``, Hu et al. 2021 eq. 3), everything else equal:
+Three configurations, everything else equal (:data:`FORMS`):
+
+- ``norm``: every centre from the norm form (Hu et al. 2021 eq. 3;
+  ``CalibrationOptions(hip_in_pelvis_form="norm")``);
+- ``default``: the norm form, but the hip centre in the pelvis sensor from the aligned
+  form given the norm form's hip in the thigh sensor (``CalibrationOptions()``);
+- ``aligned``: the hip and knee centres from the aligned form
+  (``CalibrationOptions(centre_form="aligned")``, :mod:`lowerlimb.calibration.aligned_form`);
+
+on:
 
 - simulated seven-IMU walks (``simulate_bilateral`` seeds 201-206, 60 s, the lab's
   magnetic field, 6-axis), rigid and with ``Artefacts.real_walk()``: segment lengths
@@ -47,7 +55,14 @@ from lowerlimb.io.bilateral_trial import BilateralTrial  # noqa: E402
 from lowerlimb.model.fallback import segment_lengths  # noqa: E402
 from lowerlimb.simulation import Artefacts, simulate  # noqa: E402
 
-FORMS = ("norm", "aligned")
+#: Configuration name -> its CalibrationOptions keywords (module docstring).
+FORMS: dict[str, dict[str, Any]] = {
+    "norm": {"hip_in_pelvis_form": "norm"},
+    "default": {},
+    "aligned": {"centre_form": "aligned"},
+}
+#: The two forms themselves, where the benchmark calls them directly (RING chain, rig).
+PURE_FORMS = ("norm", "aligned")
 
 
 def simulated(seeds: list[int], duration_s: float, artefacts: Artefacts | None) -> dict[str, Any]:
@@ -55,7 +70,7 @@ def simulated(seeds: list[int], duration_s: float, artefacts: Artefacts | None) 
     g = _module("gait")
     out: dict[str, Any] = {}
     for form in FORMS:
-        opts = CalibrationOptions(centre_form=form)
+        opts = CalibrationOptions(**FORMS[form])
         trials, failed = [], []
         for seed in seeds:
             try:
@@ -102,7 +117,7 @@ def one_leg(duration_s: float) -> list[dict[str, Any]]:
             for form in FORMS:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")
-                    cal = calibrate_leg(sim.trial, options=CalibrationOptions(centre_form=form))
+                    cal = calibrate_leg(sim.trial, options=CalibrationOptions(**FORMS[form]))
                 row[form] = {
                     "length_err_mm": list(1000.0 * (np.array(segment_lengths(cal)) - true_len)),
                     "hip_in_pelvis_mm": 1000.0
@@ -132,7 +147,7 @@ def real_walk(data: Path) -> dict[str, Any]:
         t = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            res = process_bilateral_trial(trial, calibration_options=CalibrationOptions(centre_form=form))
+            res = process_bilateral_trial(trial, calibration_options=CalibrationOptions(**FORMS[form]))
         row: dict[str, Any] = {"wall_s": time.perf_counter() - t}
         row["legs"] = bg.score_legs(res, vicon)
         row |= bg.score_strides(res, vicon, ge)
@@ -152,9 +167,9 @@ CAP_FACTORS = (1.0, 1.25, 1.5)
 def cap_sensitivity(trial: Any, vicon: dict[str, Any], bg: ModuleType) -> dict[str, Any]:
     """Segment length errors against Vicon of both forms with the rigid-band cap widened."""
     out: dict[str, Any] = {}
-    for form in FORMS:
+    for form in ("default", "aligned"):  # the lengths do not depend on the hip in the pelvis
         for f in CAP_FACTORS:
-            opts = CalibrationOptions(centre_form=form, rigid_band_factor=f)
+            opts = CalibrationOptions(**FORMS[form], rigid_band_factor=f)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 res = process_bilateral_trial(trial, calibration_options=opts)
@@ -291,20 +306,28 @@ def _cell(st: dict[str, float]) -> str:
     return f"{st['median_abs']:.1f} / {st['worst_abs']:.1f} / {st['bias']:+.1f}"
 
 
+def _row(label: str, cells: list[str]) -> str:
+    return f"| {label} | " + " | ".join(cells) + " |"
+
+
+_HEAD = " | ".join(FORMS)
+_RULE = "|---" * (len(FORMS) + 1) + "|"
+
+
 def _sim_lines(title: str, sim: dict[str, Any]) -> list[str]:
-    n, a = sim["norm"], sim["aligned"]
+    runs = [sim[form] for form in FORMS]
     fails = [f"- {form} failed on {f}" for form in FORMS for f in sim[form].get("failed", [])]
-    if "joints" not in n or "joints" not in a:
+    if any("joints" not in r for r in runs):
         return [f"### {title}", "", *fails, ""]
-    L = [f"### {title}", "", "| quantity (median abs / worst abs / bias) | norm | aligned |", "|---|---|---|"]
-    for label in n["joints"]:
-        L.append(f"| {label} | {_cell(n['joints'][label])} | {_cell(a['joints'][label])} |")
+    L = [f"### {title}", "", f"| quantity (median abs / worst abs / bias) | {_HEAD} |", _RULE]
+    for label in runs[0]["joints"]:
+        L.append(_row(label, [_cell(r["joints"][label]) for r in runs]))
     for key in ("step_width_mm", "stride_length_pct"):
-        L.append(f"| {key} | {_cell(n[key])} | {_cell(a[key])} |")
-    wn, wa = (" / ".join(f"{v:.2f}" for v in x["worst_other_angle_deg"]) for x in (n, a))
-    L.append(f"| worst non-flexion angle RMSE per trial, deg | {wn} | {wa} |")
-    tn, ta = (float(np.median(x["wall_s"])) for x in (n, a))
-    L.append(f"| pipeline wall time per trial (median), s | {tn:.1f} | {ta:.1f} |")
+        L.append(_row(key, [_cell(r[key]) for r in runs]))
+    worst = [" / ".join(f"{v:.2f}" for v in r["worst_other_angle_deg"]) for r in runs]
+    L.append(_row("worst non-flexion angle RMSE per trial, deg", worst))
+    wall = [f"{float(np.median(r['wall_s'])):.1f}" for r in runs]
+    L.append(_row("pipeline wall time per trial (median), s", wall))
     if fails:
         L += ["", "Trials that failed (left out of the pooled rows above):", "", *fails]
     return L + [""]
@@ -315,8 +338,11 @@ def markdown(res: dict[str, Any]) -> str:
     L = [
         "# Norm form against the aligned 3-D form of the joint constraint",
         "",
-        '`CalibrationOptions(centre_form="aligned")` against the defaults, on the same data '
-        "(benchmarks/aligned_form.py; lowerlimb.calibration.aligned_form). Simulated: seeds "
+        "On the same data (benchmarks/aligned_form.py; lowerlimb.calibration.aligned_form): `norm` "
+        '= every centre from the norm form (`hip_in_pelvis_form="norm"`); `default` = the norm '
+        "form with the hip centre in the pelvis sensor from the aligned form, given the norm "
+        "form's hip in the thigh sensor (`CalibrationOptions()`); `aligned` = "
+        '`centre_form="aligned"`. Simulated: seeds '
         f"{', '.join(map(str, res['seeds']))}, {res['duration_s']:g} s, scored as gait.md.",
         "",
         "## Simulated seven-IMU walks",
@@ -330,8 +356,8 @@ def markdown(res: dict[str, Any]) -> str:
             "",
             "Thigh / shank length error, hip in the pelvis sensor, hip in the thigh sensor (mm):",
             "",
-            "| motion | seed | norm | aligned |",
-            "|---|---|---|---|",
+            f"| motion | seed | {_HEAD} |",
+            "|---" + _RULE,
         ]
         for row in res["one_leg"]:
             cells = []
@@ -341,22 +367,19 @@ def markdown(res: dict[str, Any]) -> str:
                 cells.append(
                     f"{e[0]:+.1f} / {e[1]:+.1f}, {r['hip_in_pelvis_mm']:.1f}, {r['hip_in_thigh_mm']:.1f}"
                 )
-            L.append(f"| {row['motion']} | {row['seed']} | {cells[0]} | {cells[1]} |")
+            L.append(f"| {row['motion']} | {row['seed']} | " + " | ".join(cells) + " |")
         L += [""]
     if res.get("real"):
-        L += ["## Real walk (gait/, against Vicon Plug-in Gait)", "", "| quantity | norm | aligned |"]
-        L += ["|---|---|---|"]
-        n, a = res["real"]["norm"], res["real"]["aligned"]
+        L += ["## Real walk (gait/, against Vicon Plug-in Gait)", "", f"| quantity | {_HEAD} |", _RULE]
+        runs = [res["real"][form] for form in FORMS]
         for side in ("left", "right"):
             for key in ("thigh_err_mm", "shank_err_mm", "knee_flexion_rmse_deg"):
-                if key in n["legs"][side]:
-                    L.append(f"| {side} {key} | {n['legs'][side][key]:+.1f} | {a['legs'][side][key]:+.1f} |")
-        L.append(
-            f"| hip spacing error, mm | {n['hip_spacing_err_mm']:+.1f} | {a['hip_spacing_err_mm']:+.1f} |"
-        )
+                if key in runs[0]["legs"][side]:
+                    L.append(_row(f"{side} {key}", [f"{r['legs'][side][key]:+.1f}" for r in runs]))
+        L.append(_row("hip spacing error, mm", [f"{r['hip_spacing_err_mm']:+.1f}" for r in runs]))
         for key in ("stride_length_err_pct", "step_width_err_mm"):
-            if n.get(key, {}).get("n"):
-                L.append(f"| {key} (median abs / worst abs / bias) | {_cell(n[key])} | {_cell(a[key])} |")
+            if runs[0].get(key, {}).get("n"):
+                L.append(_row(f"{key} (median abs / worst abs / bias)", [_cell(r[key]) for r in runs]))
         L += [""]
         sens = res["real"].get("cap_sensitivity", {})
         if sens:
@@ -384,8 +407,8 @@ def markdown(res: dict[str, Any]) -> str:
         ]
         for row in res["ring"]:
             fc = "adaptive" if row["cutoff_hz"] is None else f"{row['cutoff_hz']:g} Hz"
-            sn, sa = (row["seg4_mm"][f] for f in FORMS)
-            bn, ba = (" / ".join(f"{v:.0f}" for v in row["ball_err_mm"][f]) for f in FORMS)
+            sn, sa = (row["seg4_mm"][f] for f in PURE_FORMS)
+            bn, ba = (" / ".join(f"{v:.0f}" for v in row["ball_err_mm"][f]) for f in PURE_FORMS)
             L.append(f"| {row['recording']} | {fc} | {sn:.1f} | {sa:.1f} | {bn} | {ba} |")
         L += [""]
     if res.get("rig"):

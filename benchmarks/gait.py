@@ -45,6 +45,7 @@ from typing import Any
 import numpy as np
 
 from lowerlimb.bilateral import BilateralSideError, process_bilateral_trial
+from lowerlimb.bilateral.pelvis import OppositeKneesError
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.conventions import ANGLE_COLUMNS, SIDES
@@ -165,22 +166,27 @@ def score_simulation(
     kw: dict[str, Any] = {"lab_field": None} if uniform_field else {}
     sim = simulate_bilateral(duration_s, seed, artefacts=artefacts, **kw)
     t0 = time.perf_counter()
-    refused = False
+    refused = one_pelvis_refused = False
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        kw = {"calibration_options": calibration_options}
         try:
-            res = process_bilateral_trial(sim.trial, calibration_options=calibration_options)
+            res = process_bilateral_trial(sim.trial, **kw)
         except BilateralSideError:
             # the pair of calibrated hips looks swapped: counted, then scored without the check
             refused = True
-            res = process_bilateral_trial(
-                sim.trial, side_check=False, calibration_options=calibration_options
-            )
+            res = process_bilateral_trial(sim.trial, side_check=False, **kw)
+        except OppositeKneesError:
+            # the legs' pelvis frames point apart (undetermined hips turn the thigh headings):
+            # counted, then scored with each leg's own pelvis
+            one_pelvis_refused = True
+            res = process_bilateral_trial(sim.trial, one_pelvis=False, **kw)
     out: dict[str, Any] = {
         "seed": seed,
         "wall_s": time.perf_counter() - t0,
         "warnings": len(caught),
         "side_check_refused": refused,
+        "one_pelvis_refused": one_pelvis_refused,
     }
     ev = res.gait.events
     for side in SIDES:
@@ -448,6 +454,11 @@ def markdown_artefacts(res: dict[str, Any]) -> str:
     L.append(f"| warnings (all trials) | | {n_warn[0]} | {n_warn[1]} |")
     n_ref = [sum(bool(tr.get("side_check_refused")) for tr in x["trials"]) for x in (rigid, art)]
     L.append(f"| trials the side check refused (scored with it off) | | {n_ref[0]} | {n_ref[1]} |")
+    n_op = [sum(bool(tr.get("one_pelvis_refused")) for tr in x["trials"]) for x in (rigid, art)]
+    L.append(
+        f"| trials the one-pelvis check refused (scored with each leg's own pelvis) | | {n_op[0]} "
+        f"| {n_op[1]} |"
+    )
     L += _per_trial_lines(rigid["trials"], art["trials"])
     L += ["", "## With artefacts, in full", ""]
     L += _simulated_lines(art)
