@@ -87,8 +87,9 @@ class OppositeKneesError(InputError):
         self.angle_deg = angle_deg
         super().__init__(
             f"the two knee axes point {angle_deg:.0f}° apart seen from the pelvis, but both should point "
-            f"to the subject's right: one leg's sensors look mirrored or belong to the other leg, or one "
-            f"knee barely bends; check the left_* and right_* columns and each sensor's axes in the export"
+            f"to the subject's right: one leg's sensors look mirrored or belong to the other leg, one knee "
+            f"barely bends, or a hip centre is undetermined (its warning says so) and turned that thigh's "
+            f"heading; check the left_* and right_* columns and each sensor's axes in the export"
         )
 
 
