@@ -8,7 +8,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from lowerlimb.calibration.aligned_form import AlignedSettings, aligned_centres
+from lowerlimb.calibration.aligned_form import AlignedFit, AlignedSettings, aligned_centres
 from lowerlimb.calibration.leg import LegCalibration, calibrate_leg
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
@@ -63,21 +63,26 @@ def test_knee_centre_keeps_the_axis_gauge() -> None:
     assert abs(along) < 1e-9
 
 
-def test_nothing_kept_leaves_the_start() -> None:
-    sim = _walk()
-    tr = sim.trial.leg("left")
-    start = np.arange(6, dtype=float) * 0.01
-    fit = aligned_centres(
+def _hip_fit(start: np.ndarray, cutoff_hz: float, iterations: int, **kw: object) -> AlignedFit:
+    """The aligned fit of the left hip (pelvis, thigh) of :func:`_walk`."""
+    tr = _walk().trial.leg("left")
+    return aligned_centres(
         tr.acc["pelvis"],
         tr.gyr["pelvis"],
         tr.acc["thigh"],
         tr.gyr["thigh"],
         rate_hz=tr.rate_hz,
-        cutoff_hz=5.0,
+        cutoff_hz=cutoff_hz,
         start=start,
-        settings=AlignedSettings(2.0, 2, 0.07, 4),
-        keep=np.zeros(tr.acc["pelvis"].shape[0], dtype=bool),
+        settings=AlignedSettings(2.0, iterations, 0.07, 4),
+        **kw,  # type: ignore[arg-type]
     )
+
+
+def test_nothing_kept_leaves_the_start() -> None:
+    start = np.arange(6, dtype=float) * 0.01
+    n = _walk().trial.leg("left").acc["pelvis"].shape[0]
+    fit = _hip_fit(start, 5.0, 2, keep=np.zeros(n, dtype=bool))
     assert fit.windows == 0
     np.testing.assert_array_equal(np.concatenate([fit.center_in_parent, fit.center_in_child]), start)
 
@@ -100,21 +105,9 @@ def test_default_takes_the_hip_in_the_pelvis_from_the_aligned_form() -> None:
 
 
 def test_fixed_child_solves_the_parent_alone() -> None:
-    sim = _walk()
-    tr = sim.trial.leg("left")
-    truth = _true_leg(sim, "left").hip
+    truth = _true_leg(_walk(), "left").hip
     start = np.concatenate([np.zeros(3), truth.center_in_child_sensor])
-    fit = aligned_centres(
-        tr.acc["pelvis"],
-        tr.gyr["pelvis"],
-        tr.acc["thigh"],
-        tr.gyr["thigh"],
-        rate_hz=tr.rate_hz,
-        cutoff_hz=4.0,
-        start=start,
-        settings=AlignedSettings(2.0, 4, 0.07, 4),
-        fixed_child=True,
-    )
+    fit = _hip_fit(start, 4.0, 4, fixed_child=True)
     np.testing.assert_array_equal(fit.center_in_child, truth.center_in_child_sensor)
     assert np.linalg.norm(fit.center_in_parent - truth.center_in_parent_sensor) < 0.012
 
