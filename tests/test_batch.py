@@ -248,6 +248,9 @@ def test_a_study_mixing_one_leg_and_two_leg_trials(tmp_path):
 def test_centre_form_reaches_every_trial_and_only_then_the_input_hash(tmp_path):
     assert "centre_form" not in BatchParams().processing_key()  # earlier studies stay up to date
     assert BatchParams(centre_form="aligned").processing_key()["centre_form"] == "aligned"
+    # the hip in the pelvis: its new default changed results, so it is always in the hash
+    assert BatchParams().processing_key()["hip_in_pelvis_form"] == "aligned"
+    assert BatchParams(hip_in_pelvis_form="norm").processing_key() != BatchParams().processing_key()
     manifest = _study(tmp_path / "in", 1, corrupt=False)
     out = tmp_path / "out"
     argv = [

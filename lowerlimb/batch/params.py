@@ -22,6 +22,9 @@ class BatchParams:
         use_mag: fuse the magnetometer when a trial has one.
         centre_form: the joint constraint that decides the hip and knee centres
             (:data:`lowerlimb.methods.CENTRE_FORMS`; ``calibrate --centre-form``).
+        hip_in_pelvis_form: the form that places the hip centre in the pelvis sensor
+            (``calibrate --hip-in-pelvis-form``). Always part of the input hash: studies run
+            before it became ``"aligned"`` are re-run once.
         outputs: short names of the files written per trial.
         workers: local worker processes; ``None``: one per core.
         force: redo trials whose outputs are complete and up to date.
@@ -38,6 +41,7 @@ class BatchParams:
     filter_name: str = "mahony"
     use_mag: bool = True
     centre_form: str = "norm"
+    hip_in_pelvis_form: str = "aligned"
     outputs: frozenset[str] = field(default=ALL_OUTPUTS)
     workers: int | None = None
     force: bool = False
@@ -57,4 +61,5 @@ class BatchParams:
         }
         if self.centre_form != "norm":  # the default leaves the studies run before it up to date
             key["centre_form"] = self.centre_form
+        key["hip_in_pelvis_form"] = self.hip_in_pelvis_form  # its default changed the results
         return key

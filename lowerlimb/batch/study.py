@@ -201,8 +201,9 @@ def _checked(p: BatchParams) -> BatchParams:
         )
     if p.filter_name not in ORIENTATION_FILTERS:
         raise InputError(f"unknown filter {p.filter_name!r}; use one of {', '.join(ORIENTATION_FILTERS)}")
-    if p.centre_form not in CENTRE_FORMS:
-        raise InputError(f"unknown centre form {p.centre_form!r}; use one of {', '.join(CENTRE_FORMS)}")
+    for name, form in (("centre form", p.centre_form), ("hip-in-pelvis form", p.hip_in_pelvis_form)):
+        if form not in CENTRE_FORMS:
+            raise InputError(f"unknown {name} {form!r}; use one of {', '.join(CENTRE_FORMS)}")
     if p.workers is not None and p.workers < 1:
         raise InputError(f"--workers {p.workers}: give at least 1")
     return replace(p, outputs=check_outputs(p.outputs))

@@ -32,6 +32,7 @@ from lowerlimb.outputs import read_calibration, write_outputs
 from lowerlimb.outputs_bilateral import write_bilateral_outputs
 from lowerlimb.pipeline import TrialResult, process_trial
 
+from .params import BatchParams
 from .record import MARKER, TrialJob, TrialOutcome
 
 __all__ = ["bilateral_key_results", "key_results", "run_trial"]
@@ -110,7 +111,7 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
             height_m=trial.height_m,
             mass_kg=trial.mass_kg,
             use_mag=p.use_mag,
-            calibration_options=CalibrationOptions(centre_form=p.centre_form),
+            calibration_options=_options(p),
         )
         return bilateral_key_results(both), lambda d: _write_two_legs(both, d, p.outputs)
     imu = ImuTrial.from_csv(trial.path, side=trial.side)
@@ -125,7 +126,7 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
         mass_kg=trial.mass_kg,
         use_mag=p.use_mag,
         calibration=previous,
-        calibration_options=CalibrationOptions(centre_form=p.centre_form),
+        calibration_options=_options(p),
     )
     return key_results(result), lambda d: write_outputs(result, d, files=p.outputs)
 
@@ -235,3 +236,8 @@ def _warning_line(caught: list[warnings.WarningMessage]) -> str:
 
 def _one_line(e: BaseException) -> str:
     return " ".join((str(e) or type(e).__name__).split())
+
+
+def _options(p: BatchParams) -> CalibrationOptions:
+    """The calibration options a study's settings choose."""
+    return CalibrationOptions(centre_form=p.centre_form, hip_in_pelvis_form=p.hip_in_pelvis_form)

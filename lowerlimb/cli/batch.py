@@ -45,6 +45,13 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         default="norm",
         help="the joint constraint that decides the hip and knee centres (as calibrate --centre-form)",
     )
+    p.add_argument(
+        "--hip-in-pelvis-form",
+        choices=CENTRE_FORMS,
+        default="aligned",
+        help="the constraint that places the hip centre in the pelvis sensor (as calibrate "
+        "--hip-in-pelvis-form)",
+    )
     add_outputs(p)
 
 
@@ -57,6 +64,7 @@ def run(args: argparse.Namespace) -> int:
         filter_name=args.filter,
         use_mag=not args.no_mag,
         centre_form=args.centre_form,
+        hip_in_pelvis_form=args.hip_in_pelvis_form,
         outputs=chosen_outputs(args),
         workers=args.workers,
         force=args.force,
