@@ -67,3 +67,22 @@ def test_wobbling_sensors_do_not_mirror_the_knees():
         k = 9 * i + 3  # knee flexion
         err = np.rad2deg(res.angles_rad[:, k] - sim.angles_rad[:, k])[300:]
         assert np.sqrt(np.mean(err**2)) < 10.0, side
+
+
+def test_a_long_trials_drift_does_not_flip_the_flexion_sign():
+    """20 minutes of 1-rad knee flexion at 0.9 Hz with 0.004 rad/s of bias left about the axis:
+    the angle from the start drifts 4.8 rad to one side; only its first minute is tested."""
+    from lowerlimb.calibration.hinge_axis import flexion_sign_margin
+    from lowerlimb.calibration.options import CalibrationOptions
+
+    rate = 100.0
+    t = np.arange(0.0, 1200.0, 1.0 / rate)
+    moving = t >= 2.0  # a still start, the angle's reference
+    flexion_rate = np.gradient(np.where(moving, 0.5 * (1.0 - np.cos(2.0 * np.pi * 0.9 * (t - 2.0))), 0.0), t)
+    wc = np.zeros((t.size, 3))
+    wc[:, 0] = -flexion_rate + 0.004 * moving  # flexion turns the shank negatively about the axis
+    wp = np.zeros_like(wc)
+    j = np.array([1.0, 0.0, 0.0])
+    window = CalibrationOptions().sign_raw_window_s
+    assert flexion_sign_margin(j, j, wp, wc, rate, 200) < 0  # the whole trial's drift decides: wrong
+    assert flexion_sign_margin(j, j, wp, wc, rate, 200, raw_window_s=window) > 0

@@ -269,6 +269,7 @@ def flexion_sign_margin(
     n_still: int = 0,
     *,
     drift_hz: float = 0.1,
+    raw_window_s: float | None = None,
 ) -> float:
     """How clearly the axes' sign makes flexion the dominant excursion (> 0: keep, < 0: flip), rad.
 
@@ -279,7 +280,10 @@ def flexion_sign_margin(
     test is also made on the angle with its slow part removed (zero-phase
     high-pass at ``drift_hz``), in which a flexing joint still shows larger
     positive than negative excursions about its running mean, and the more
-    decisive of the two tests (margin over the angle's range) decides.
+    decisive of the two tests (margin over the angle's range) decides. The test
+    from the start looks only at the first ``raw_window_s`` after the still
+    start: on a 20-minute simulated walk the whole angle drifted by 4.4 rad to
+    one side, which made that test the more decisive one, and wrong.
 
     Args:
         axis_parent: (3,) unit axis, parent frame.
@@ -289,12 +293,17 @@ def flexion_sign_margin(
         rate_hz: sampling rate, Hz.
         n_still: still samples at the start (the angle reference).
         drift_hz: cut-off of the drift removal, Hz.
+        raw_window_s: length of the test from the start after the still samples, s
+            (``None``: the whole trial).
 
     Returns:
         The signed margin ``p99 + p1`` of the deciding test, rad.
     """
     best, best_score = 0.0, -1.0
-    for x in _flexion_tests(axis_parent, axis_child, gyr_parent, gyr_child, rate_hz, n_still, drift_hz):
+    tests = _flexion_tests(axis_parent, axis_child, gyr_parent, gyr_child, rate_hz, n_still, drift_hz)
+    if raw_window_s is not None:
+        tests[0] = tests[0][: n_still + max(1, int(raw_window_s * rate_hz))]
+    for x in tests:
         margin, score = _one_sidedness(x)
         if score > best_score:
             best, best_score = margin, score
@@ -523,7 +532,7 @@ def fit_hinge_axis(
     jc, coherence, corr = _relative_sign(
         jp, jc, *ws, rate_hz, acc_check, joint, child_sensor, messages, n_still=n_still, options=options
     )
-    margin = flexion_sign_margin(jp, jc, *ws, rate_hz, n_still)
+    margin = flexion_sign_margin(jp, jc, *ws, rate_hz, n_still, raw_window_s=options.sign_raw_window_s)
     if margin < 0:
         jp, jc = -jp, -jc
     r, report, std_deg = _axis_diagnostics(

@@ -85,6 +85,11 @@ class CalibrationOptions:
             look swapped (:mod:`~lowerlimb.calibration.plausibility`).
         max_iter: iteration limit of the Gauss–Newton solvers.
         tol: convergence tolerance of the Gauss–Newton solvers (relative step).
+        sign_raw_window_s: the overall hinge sign's test on the angle from the standing start
+            looks at this long a stretch after it, s
+            (:func:`~lowerlimb.calibration.hinge_axis.flexion_sign_margin`): over a whole
+            20-minute walk the residual gyro bias drifted the angle by 4.4 rad, one-sidedly,
+            and that test flipped a simulated knee.
         sign_one_sided_margin: when neither the gyro coherence nor the accelerometers settle
             a hinge's relative axis sign, the candidate whose drift-free joint angle is more
             one-sided by at least this score (0–1) is taken
@@ -244,6 +249,7 @@ class CalibrationOptions:
     hinge_gravity_rate_rps: float = 0.0
     hinge_band_hz: float | None = 4.0
     hinge_band_max_disagreement_deg: float = 5.0
+    sign_raw_window_s: float = 60.0
     sign_one_sided_margin: float = 0.15
     hinge_starts: int = 3
     swarm_samples: int = 1500
@@ -348,6 +354,8 @@ class CalibrationOptions:
             raise InputError(f"hip_in_pelvis_form must be one of {forms}, got {self.hip_in_pelvis_form!r}")
         if not set(self.aligned_joints) <= {"hip", "knee"}:
             raise InputError(f"aligned_joints may hold 'hip' and 'knee', got {list(self.aligned_joints)}")
+        if not self.sign_raw_window_s > 0:
+            raise InputError(f"sign_raw_window_s must be > 0 s, got {self.sign_raw_window_s}")
         if not self.aligned_window_s > 0 or self.aligned_iterations < 1:
             raise InputError(
                 f"aligned_window_s must be > 0 s and aligned_iterations >= 1, got "
