@@ -209,6 +209,9 @@ class CalibrationOptions:
             widened and record how far each centre moves
             (:mod:`~lowerlimb.calibration.cutoff_probe`; a record, no estimate changes).
         cutoff_probe_factor: the widening factor (> 1).
+        cutoff_probe_max_samples: the probe refits a longer trial on every k-th sample, so
+            that at most this many remain (a record of centimetre shifts does not need all of
+            a 20-minute walk; the refits were a third of its calibration time).
         clock_sync: estimate the sensors' clock offsets from the joints after a first
             calibration and, when they explain the joints' mismatch, re-time the signals
             and calibrate again (:mod:`~lowerlimb.calibration.clock_sync`; applied by
@@ -289,6 +292,7 @@ class CalibrationOptions:
     knee_line_max_mismatch_deg: float = 5.0
     cutoff_probe: bool = True
     cutoff_probe_factor: float = 1.5
+    cutoff_probe_max_samples: int = 6000
     clock_sync: bool = True
     clock_max_offset_s: float = 0.06
     clock_min_explained: float = 0.3
@@ -331,6 +335,8 @@ class CalibrationOptions:
             raise InputError(f"impact_max_excluded must be in [0, 1), got {self.impact_max_excluded}")
         if not all(f > 0 for f in self.knee_line_probe_factors):
             raise InputError(f"knee_line_probe_factors must all be > 0, got {self.knee_line_probe_factors}")
+        if self.cutoff_probe_max_samples < 100:
+            raise InputError(f"cutoff_probe_max_samples must be >= 100, got {self.cutoff_probe_max_samples}")
         if not self.cutoff_probe_factor > 1.0:
             raise InputError(f"cutoff_probe_factor must be > 1, got {self.cutoff_probe_factor}")
         if not 0.0 < self.clock_min_explained <= 1.0:
