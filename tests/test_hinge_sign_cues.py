@@ -86,3 +86,11 @@ def test_a_long_trials_drift_does_not_flip_the_flexion_sign():
     window = CalibrationOptions().sign_raw_window_s
     assert flexion_sign_margin(j, j, wp, wc, rate, 200) < 0  # the whole trial's drift decides: wrong
     assert flexion_sign_margin(j, j, wp, wc, rate, 200, raw_window_s=window) > 0
+
+
+def test_a_non_positive_sign_window_is_refused():
+    from lowerlimb.calibration.options import CalibrationOptions
+    from lowerlimb.errors import InputError
+
+    with pytest.raises(InputError, match="sign_raw_window_s"):
+        CalibrationOptions(sign_raw_window_s=0.0)
