@@ -285,6 +285,15 @@ class CalibrateOptions:
     reference: Path | None = None
     outputs: frozenset[str] = frozenset(OUTPUT_FILES)
 
+    def calibration_options(self) -> CalibrationOptions:
+        """The joint-calibration options these command-line options choose (one and two legs)."""
+        return CalibrationOptions(
+            check_sensor_order=self.order_check,
+            clock_sync=self.clock_sync,
+            centre_form=self.centre_form,
+            hip_in_pelvis_form=self.hip_in_pelvis_form,
+        )
+
 
 def check_options(options: CalibrateOptions, bounds: InputBounds = INPUT_BOUNDS) -> None:
     """Check the options that need no file: side, method, filter, height, mass, the output folder.
@@ -357,12 +366,7 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
             s2j=s2j,
             calibration=previous,
             progress=True,
-            calibration_options=CalibrationOptions(
-                check_sensor_order=options.order_check,
-                clock_sync=options.clock_sync,
-                centre_form=options.centre_form,
-                hip_in_pelvis_form=options.hip_in_pelvis_form,
-            ),
+            calibration_options=options.calibration_options(),
             side_check=options.side_check,
         )
     _print_warnings(caught)

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from .bilateral import BilateralResult, process_bilateral_trial
-from .calibration.options import CalibrationOptions, check_method
+from .calibration.options import check_method
 from .conventions import SIDES
 from .errors import InputError
 from .gait import GaitEvents, write_events_csv, write_stationary_csv
@@ -255,12 +255,7 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
             mass_kg=options.mass_kg,
             use_mag=options.use_mag,
             progress=True,
-            calibration_options=CalibrationOptions(
-                check_sensor_order=options.order_check,
-                clock_sync=options.clock_sync,
-                centre_form=options.centre_form,
-                hip_in_pelvis_form=options.hip_in_pelvis_form,
-            ),
+            calibration_options=options.calibration_options(),
             side_check=options.side_check,
         )
     _print_warnings(caught)

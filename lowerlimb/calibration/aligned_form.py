@@ -40,15 +40,16 @@ its axis is not determined by either form; its centre is solved with the
 
 Measured (``benchmarks/aligned_form.py``, same data both ways; the leg applies it
 to the hip and the knee, the ankle keeps the norm form): on six rigid simulated
-walks the thigh and shank length bias goes from −21 / −24 mm to −5 / −5 mm (worst
-79 → 18 mm), the hip in the pelvis sensor from 85 to 5 mm median and the worst
-non-flexion angle RMSE from 4.9° to 1.2°; with the simulator's real-walk artefacts
-the length bias goes from −60 / −87 to −20 / −60 mm. Where no low cut-off biases
-the norm form it does not help: on the rig (within 2 mm of the norm form) and on
-the one-leg simulator (a walk's hip in the pelvis sensor 2 → 17 mm). On the real walk
-of ``gait/`` the thighs come within 3 mm of Vicon (were −10 / +29) but the shanks
-move from +4 / −5 to +38 / +32 mm and the step width error from 18 to 26 mm median
-(32 worst, was 40). It is therefore an option, not the default (docs/limits.md).
+walks the thigh and shank length bias goes from −21 / −24 mm to +0.0 / −1.7 mm
+(worst 79 → 15 mm), the hip in the pelvis sensor from 85 to 1.6 mm median and the
+hip in the thigh sensor from 5.0 to 0.8 mm; with the simulator's real-walk artefacts
+the length bias goes from −60 / −87 to −19 / −58 mm. On the rig (no low-pass
+there) it is within 2 mm of the norm form. On the real walk of ``gait/`` the thighs
+come to +4 / +11 mm of Vicon (were −10 / +29) but the shanks move from +4 / −5 to
++39 / +34 mm and the step width error from 15 to 26 mm median. So for the thigh and
+the knee it is an option; the hip centre in the pelvis sensor, which the norm form
+cannot place when the pelvis barely turns, takes it by default with the thigh side
+held (``fixed_child``; ``CalibrationOptions.hip_in_pelvis_form``, docs/limits.md).
 """
 
 from __future__ import annotations
@@ -178,7 +179,8 @@ def aligned_centres(
         keep: (N,) booleans, the samples to fit (``None``: all), e.g. without impacts.
         gauge_axes: ``(j_P, j_C)`` of a hinge: the centres are solved in the eq. 16 gauge.
         fixed_child: hold ``c_C`` at its start and solve ``c_P`` alone (the parent's
-            centre given the child's, e.g. the hip in a pelvis that barely turns).
+            centre given the child's, e.g. the hip in a pelvis that barely turns;
+            ``gauge_axes`` then does not apply).
 
     Returns:
         The centres and the fit's RMS residual.

@@ -418,7 +418,7 @@ def _aligned(
 
 
 def _pelvis_side(new: SphericalJointCalibration, old: SphericalJointCalibration) -> SphericalJointCalibration:
-    """``new``'s hip centre in the pelvis sensor (fitted given ``old``'s in the thigh sensor).
+    """``new`` (its pelvis side fitted with ``old``'s thigh side held) labelled as such.
 
     Why: the norm form cannot place the centre in a sensor that barely turns (the
     pelvis in walking) once the pair is low-passed, while the thigh's large rotation
@@ -426,11 +426,9 @@ def _pelvis_side(new: SphericalJointCalibration, old: SphericalJointCalibration)
     more than either's agreement with Vicon (``benchmarks/results/aligned_form.md``), and
     the norm form's side is kept.
     """
-    if new is old or np.array_equal(new.center_in_parent_sensor, old.center_in_parent_sensor):
-        return new  # the aligned fit was not used (search box): nothing to mix
-    return replace(
-        new, center_in_child_sensor=old.center_in_child_sensor, solver=f"{old.solver}+aligned(pelvis side)"
-    )
+    if np.array_equal(new.center_in_parent_sensor, old.center_in_parent_sensor):
+        return new  # the aligned fit was not used (search box)
+    return replace(new, solver=f"{old.solver}+aligned(pelvis side)")
 
 
 def _across_axis(
