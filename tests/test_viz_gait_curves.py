@@ -7,6 +7,8 @@ import io
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from PIL import Image
 from scipy.signal import find_peaks
 
@@ -14,6 +16,7 @@ from lowerlimb.conventions import ANGLE_COLUMNS
 from lowerlimb.errors import ShapeError
 from lowerlimb.viz.gait_curves import (
     CYCLE_POINTS,
+    MAX_STRIDE_S,
     gait_report_section,
     normalise_strides,
     parameter_table_html,
@@ -117,3 +120,22 @@ def test_the_section_embeds_in_the_report(tmp_path, walk_clean, two_sides):
     )
     text = path.read_text(encoding="utf-8")
     assert text.index("id='angles-plot'") < text.index("id='gait-cycles'") < text.index("id='positions-plot'")
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**31 - 1))
+def test_each_stride_reads_only_its_own_samples_and_matches_the_whole_record(seed):
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.uniform(0.005, 0.015, 800))  # uneven sampling
+    y = rng.normal(size=(800, 3))
+    contacts = np.sort(rng.uniform(t[0] - 0.5, t[-1] + 0.5, 8))
+    strides = normalise_strides(t, y, contacts)
+    phase = np.linspace(0.0, 1.0, CYCLE_POINTS)
+    expected = [
+        np.column_stack([np.interp(t0 + phase * (t1 - t0), t, y[:, j]) for j in range(3)])
+        for t0, t1 in zip(contacts[:-1], contacts[1:], strict=True)
+        if t0 >= t[0] and t1 <= t[-1] and 0.0 < t1 - t0 <= MAX_STRIDE_S
+    ]
+    assert strides.shape[0] == len(expected)
+    for got, want in zip(strides, expected, strict=True):
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-12)

@@ -448,6 +448,14 @@ def _with_gravity(
     return np.vstack([wp, np.tile(r * up, (n_still, 1))]), np.vstack([wc, np.tile(r * uc, (n_still, 1))])
 
 
+def _thinned(wp: FloatArray, wc: FloatArray, options: CalibrationOptions) -> tuple[FloatArray, FloatArray]:
+    """Every k-th sample of (N, 3) gyros, at most ``options.fit_max_samples`` (gravity rows thin alike)."""
+    if options.fit_max_samples is None:
+        return wp, wc
+    step = subsample_step(wp.shape[0], options.fit_max_samples)
+    return wp[::step], wc[::step]
+
+
 def fit_hinge_axis(
     gyr_parent: FloatArray,
     gyr_child: FloatArray,
@@ -505,7 +513,11 @@ def fit_hinge_axis(
     def contested(a: FloatArray, b: FloatArray) -> bool:
         return _sign_cues_disagree(a, b, wp, wc, rate_hz, n_still, options)
 
-    jp, jc, iterations, converged, solver = _solve_axes(wpf, wcf, method, options, contested)
+    # the axes are solved on every k-th sample of a long trial (options.fit_max_samples);
+    # the sign rules and the diagnostics read every sample
+    jp, jc, iterations, converged, solver = _solve_axes(
+        *_thinned(wpf, wcf, options), method, options, contested
+    )
     messages: list[str] = []
     # the sign rules read the gyros the kept axes were fitted on (hinge_band module docstring)
     ws = (wp, wc)
@@ -517,7 +529,10 @@ def fit_hinge_axis(
             return _sign_cues_disagree(a, b, wpb, wcb, rate_hz, n_still, options)
 
         bp, bc, b_it, b_conv, b_solver = _solve_axes(
-            *_with_gravity(wpb, wcb, gravity, n_still, options), method, options, contested_band
+            *_thinned(*_with_gravity(wpb, wcb, gravity, n_still, options), options),
+            method,
+            options,
+            contested_band,
         )
         iterations += b_it
         apart = axes_disagreement_deg((jp, jc), (bp, bc))

@@ -293,6 +293,8 @@ def fit_spherical(
         n_all = data.n_samples
         data = data.select(keep)
         excluded = 1.0 - data.n_samples / max(n_all, 1)
+    if options.fit_max_samples is not None:
+        data = data.subsample(subsample_step(data.n_samples, options.fit_max_samples))
     if gauge_axes is None:
         problem = _spherical_problem(data, options)
         n_par = 6

@@ -209,6 +209,13 @@ class CalibrationOptions:
             widened and record how far each centre moves
             (:mod:`~lowerlimb.calibration.cutoff_probe`; a record, no estimate changes).
         cutoff_probe_factor: the widening factor (> 1).
+        fit_max_samples: a longer trial's joint-centre fits and hinge-axis solves use every
+            k-th sample of the low-passed signals, so that at most this many remain (``None``:
+            all samples; the hinge's sign rules and every diagnostic still read all of them).
+            The signals are low-passed well below the rate, so neighbouring samples carry
+            nearly the same information; the spreads stay honest because they scale with
+            the residual's correlation time. Trials up to 2 minutes at 100 Hz are fitted
+            on every sample.
         cutoff_probe_max_samples: the probe refits a longer trial on every k-th sample, so
             that at most this many remain (a record of centimetre shifts does not need all of
             a 20-minute walk; the refits were a third of its calibration time).
@@ -293,6 +300,7 @@ class CalibrationOptions:
     cutoff_probe: bool = True
     cutoff_probe_factor: float = 1.5
     cutoff_probe_max_samples: int = 6000
+    fit_max_samples: int | None = 12000
     clock_sync: bool = True
     clock_max_offset_s: float = 0.06
     clock_min_explained: float = 0.3
@@ -335,6 +343,8 @@ class CalibrationOptions:
             raise InputError(f"impact_max_excluded must be in [0, 1), got {self.impact_max_excluded}")
         if not all(f > 0 for f in self.knee_line_probe_factors):
             raise InputError(f"knee_line_probe_factors must all be > 0, got {self.knee_line_probe_factors}")
+        if self.fit_max_samples is not None and self.fit_max_samples < 100:
+            raise InputError(f"fit_max_samples must be >= 100 or None, got {self.fit_max_samples}")
         if self.cutoff_probe_max_samples < 100:
             raise InputError(f"cutoff_probe_max_samples must be >= 100, got {self.cutoff_probe_max_samples}")
         if not self.cutoff_probe_factor > 1.0:

@@ -76,11 +76,14 @@ def normalise_strides(
     for t0, t1 in zip(ic[:-1], ic[1:], strict=True):
         if t0 < t[0] or t1 > t[-1] or not 0.0 < t1 - t0 <= MAX_STRIDE_S:
             continue
-        inside = (t >= t0) & (t <= t1)
-        if np.isnan(y[inside]).any():
+        # the stride's own samples (and one either side for the interpolation), not all N
+        lo = max(int(np.searchsorted(t, t0, side="left")) - 1, 0)
+        hi = int(np.searchsorted(t, t1, side="right")) + 1
+        ts, ys = t[lo:hi], y[lo:hi]
+        if np.isnan(ys[(ts >= t0) & (ts <= t1)]).any():
             continue
         tc = t0 + phase * (t1 - t0)
-        strides.append(np.column_stack([np.interp(tc, t, y[:, j]) for j in range(y.shape[1])]))
+        strides.append(np.column_stack([np.interp(tc, ts, ys[:, j]) for j in range(y.shape[1])]))
     return np.array(strides).reshape(len(strides), CYCLE_POINTS, y.shape[1])
 
 
@@ -113,6 +116,7 @@ def plot_gait_cycles(
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
+    from matplotlib.ticker import MaxNLocator, MultipleLocator
 
     k = len(names)
     rows = -(-k // columns)
@@ -136,7 +140,9 @@ def plot_gait_cycles(
         if j >= k:
             ax.set_visible(False)
             continue
-        ax.set_title(names[j].replace("_", " "), fontsize=9)
+        ax.set_title(names[j].replace("_", " "), fontsize=9, y=1.0, pad=4)
+        ax.xaxis.set_major_locator(MultipleLocator(20.0))
+        ax.yaxis.set_major_locator(MaxNLocator(4))  # few ticks: most of the drawing time is ticks
         ax.grid(alpha=0.3)
         ax.tick_params(labelsize=8)
         ax.set_xlim(0.0, 100.0)
