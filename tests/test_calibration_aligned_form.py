@@ -63,7 +63,9 @@ def test_knee_centre_keeps_the_axis_gauge() -> None:
     assert abs(along) < 1e-9
 
 
-def _hip_fit(start: np.ndarray, cutoff_hz: float, iterations: int, **kw: object) -> AlignedFit:
+def _hip_fit(
+    start: np.ndarray, cutoff_hz: float, iterations: int, max_samples: int | None = None, **kw: object
+) -> AlignedFit:
     """The aligned fit of the left hip (pelvis, thigh) of :func:`_walk`."""
     tr = _walk().trial.leg("left")
     return aligned_centres(
@@ -74,7 +76,7 @@ def _hip_fit(start: np.ndarray, cutoff_hz: float, iterations: int, **kw: object)
         rate_hz=tr.rate_hz,
         cutoff_hz=cutoff_hz,
         start=start,
-        settings=AlignedSettings(2.0, iterations, 0.07, 4),
+        settings=AlignedSettings(2.0, iterations, 0.07, 4, max_samples),
         **kw,  # type: ignore[arg-type]
     )
 
@@ -110,6 +112,19 @@ def test_fixed_child_solves_the_parent_alone() -> None:
     fit = _hip_fit(start, 4.0, 4, fixed_child=True)
     np.testing.assert_array_equal(fit.center_in_child, truth.center_in_child_sensor)
     assert np.linalg.norm(fit.center_in_parent - truth.center_in_parent_sensor) < 0.012
+
+
+def test_a_thinned_fit_keeps_the_centres_and_the_windows() -> None:
+    """Every 3rd low-passed sample (3000 → 1000) gives the same windows and nearly the same centres."""
+    truth = _true_leg(_walk(), "left").hip
+    start = np.concatenate([truth.center_in_parent_sensor, truth.center_in_child_sensor]) + 0.02
+    full, thin = _hip_fit(start, 4.0, 4), _hip_fit(start, 4.0, 4, max_samples=1000)
+    assert thin.windows == full.windows
+    moved = np.concatenate(
+        [thin.center_in_parent - full.center_in_parent, thin.center_in_child - full.center_in_child]
+    )
+    assert 1000.0 * np.max(np.abs(moved)) < 2.0, moved
+    assert not np.array_equal(thin.center_in_parent, full.center_in_parent)  # thinning happened
 
 
 @pytest.mark.parametrize(

@@ -61,6 +61,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation, Slerp
 
+from lowerlimb.calibration._solve import subsample_step
 from lowerlimb.calibration.geometry import basis_with_first_axis
 from lowerlimb.constraints.angular_acceleration import angular_acceleration
 from lowerlimb.constraints.prefilter import lowpass
@@ -80,12 +81,15 @@ class AlignedSettings:
         iterations: alternations of the windows' ``D`` and the centres (≥ 1).
         angacc_window_s: Savitzky–Golay window of α, s.
         angacc_polyorder: its polynomial degree.
+        max_samples: fit a longer trial on every k-th low-passed sample, at most this many
+            (``None``: every sample; ``CalibrationOptions.fit_max_samples``).
     """
 
     window_s: float
     iterations: int
     angacc_window_s: float
     angacc_polyorder: int
+    max_samples: int | None = None
 
 
 @dataclass(frozen=True)
@@ -111,6 +115,10 @@ class _Side:
 
     acc: FloatArray
     kin: FloatArray
+
+    def every(self, step: int) -> _Side:
+        """Every ``step``-th sample (the signals are already low-passed)."""
+        return _Side(self.acc[::step], self.kin[::step])
 
 
 def _side(
@@ -190,6 +198,10 @@ def aligned_centres(
     C = _side(ac, np.asarray(gyr_child, dtype=float), rate_hz, cutoff_hz, settings)
     n = ap.shape[0]
     k = np.ones(n, dtype=bool) if keep is None else np.asarray(keep, dtype=bool)
+    step = 1 if settings.max_samples is None else subsample_step(n, settings.max_samples)
+    if step > 1:
+        P, C, k = P.every(step), C.every(step), k[::step]
+        n = P.acc.shape[0]
     M = np.eye(6)  # parameters -> (c_P, c_C)
     if gauge_axes is not None:
         Qp, Qc = (basis_with_first_axis(np.asarray(j, dtype=float)) for j in gauge_axes)
@@ -198,7 +210,7 @@ def aligned_centres(
         M = M @ AXIS_GAUGE_MAP
     if fixed_child:
         M = np.eye(6)[:, :3]
-    n_win = max(1, int(round(n / (settings.window_s * rate_hz))))
+    n_win = max(1, int(round(n * step / (settings.window_s * rate_hz))))
     edges = np.linspace(0, n, n_win + 1).astype(int)
     x = np.asarray(start, dtype=float).copy()
     rms = float("nan")

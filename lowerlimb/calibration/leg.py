@@ -367,7 +367,7 @@ def _aligned(
 
     o = options
     settings = AlignedSettings(
-        o.aligned_window_s, o.aligned_iterations, o.angacc_window_s, o.angacc_polyorder
+        o.aligned_window_s, o.aligned_iterations, o.angacc_window_s, o.angacc_polyorder, o.fit_max_samples
     )
 
     def refit(

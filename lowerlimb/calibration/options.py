@@ -209,9 +209,10 @@ class CalibrationOptions:
             widened and record how far each centre moves
             (:mod:`~lowerlimb.calibration.cutoff_probe`; a record, no estimate changes).
         cutoff_probe_factor: the widening factor (> 1).
-        fit_max_samples: a longer trial's joint-centre fits and hinge-axis solves use every
-            k-th sample of the low-passed signals, so that at most this many remain (``None``:
-            all samples; the hinge's sign rules and every diagnostic still read all of them).
+        fit_max_samples: a longer trial's joint-centre fits (norm and aligned form) and
+            hinge-axis solves use every k-th sample of the low-passed signals, so that at
+            most this many remain (``None``: all samples; the hinge's sign rules and every
+            diagnostic still read all of them).
             The signals are low-passed well below the rate, so neighbouring samples carry
             nearly the same information; the spreads stay honest because they scale with
             the residual's correlation time. Trials up to 2 minutes at 100 Hz are fitted
