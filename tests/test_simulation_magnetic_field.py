@@ -32,6 +32,18 @@ def test_no_moment_no_disturbance_and_a_dipole_is_a_dipole() -> None:
     assert np.allclose(b, [[0.0, 0.0, 0.2]], atol=1e-12)
 
 
+def test_a_dipole_reaches_only_as_far_along_y_as_along_x() -> None:
+    """The reach is a box under each stretch of path, so a long bending walk does not pay
+    for every dipole of the lab's width (the 5-minute seven-IMU walk took 195 s, now ~15 s)."""
+    one = (np.array([[0.0, 0.0, -0.5]]), np.array([[0.0, 0.0, 1.0]]))
+    pts = np.array([[0.0, 2.9, 0.5], [0.0, 3.1, 0.5], [2.9, 0.0, 0.5], [3.1, 0.0, 0.5]])
+    far_apart = np.vstack([pts, [[0.0, 40.0, 0.5]]])  # one block, far along y: the box widens
+    for points in (pts[:1], pts[1:2], pts[2:3], pts[3:4]):
+        b = field_enu_ut(points, np.zeros(3), one, reach_m=3.0)
+        assert (np.abs(b).max() > 0) == (np.abs(points[0, :2]).max() < 3.0), points
+    assert np.abs(field_enu_ut(far_apart, np.zeros(3), one, reach_m=3.0)[0]).max() > 0
+
+
 def test_the_seven_imu_walk_reads_a_lab_that_the_check_rejects() -> None:
     from lowerlimb.orientation.magnetic import check_magnetic_field
 

@@ -79,21 +79,25 @@ def field_enu_ut(
 ) -> FloatArray:
     """The field (N, 3) µT, ENU, at ``points_m`` (N, 3) m: ``uniform_ut`` (3,) plus the dipoles.
 
-    A dipole acts only on the points within ``reach_m`` of it along x (the walking
-    direction of the simulators; one farther away adds below 1 % of a near one).
+    A dipole acts only on the points within ``reach_m`` of it along x and along y (one
+    farther away adds below 1 % of a near one). The points are taken in blocks of
+    consecutive rows, a short stretch of a sensor's path, so that each block meets only
+    the dipoles under that stretch: the cost grows with the path's length, not with the
+    area of the lab it spans (a bending 5-minute walk's grid holds ~10⁵ dipoles).
     """
     x = np.asarray(points_m, dtype=float).reshape(-1, 3)
     B = np.tile(np.asarray(uniform_ut, dtype=float), (x.shape[0], 1))
-    order = np.argsort(x[:, 0], kind="stable")
     pos, mom = dipoles
     by_x = np.argsort(pos[:, 0], kind="stable")
-    px = pos[by_x, 0]
-    for block in np.array_split(order, max(1, x.shape[0] // _BLOCK)):
+    px, py = pos[by_x, 0], pos[by_x, 1]
+    for block in np.array_split(np.arange(x.shape[0]), max(1, x.shape[0] // _BLOCK)):
         if block.size == 0:
             continue
-        lo, hi = np.searchsorted(px, [x[block, 0].min() - reach_m, x[block, 0].max() + reach_m])
-        near = by_x[lo:hi]
-        r = x[block, None, :] - pos[None, near, :]  # (B, K, 3)
+        xb = x[block]
+        lo, hi = np.searchsorted(px, [xb[:, 0].min() - reach_m, xb[:, 0].max() + reach_m])
+        in_y = (py[lo:hi] >= xb[:, 1].min() - reach_m) & (py[lo:hi] <= xb[:, 1].max() + reach_m)
+        near = by_x[lo:hi][in_y]
+        r = xb[:, None, :] - pos[None, near, :]  # (B, K, 3)
         d = np.linalg.norm(r, axis=2)
         u = r / d[..., None]
         m = mom[None, near, :]
