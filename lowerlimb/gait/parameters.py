@@ -211,14 +211,29 @@ def _pair_yaw_samples(
         return out
 
     sl, sr = straight(cl), straight(cr)
+    mid_l = np.array([0.5 * (b0 + b1) for b0, b1, _ in sl])
+    head_l = np.array([np.arctan2(d[1], d[0]) for *_, d in sl])
     rows = []
     for a0, a1, dr in sr:
         ov = [min(a1, b1) - max(a0, b0) for b0, b1, _ in sl]
         if not ov or max(ov) <= 0:
             continue
-        dl = sl[int(np.argmax(ov))][2]
-        ang = np.arctan2(dl[1], dl[0]) - np.arctan2(dr[1], dr[0])
-        rows.append((0.5 * (a0 + a1), float(ang), float(np.linalg.norm(dl) * np.linalg.norm(dr))))
+        i = int(np.argmax(ov))
+        dl = sl[i][2]
+        tm = 0.5 * (a0 + a1)
+        # the left heading at the right stride's own mid-time: a walk that bends turns by
+        # about half a stride's worth between overlapping strides of the two feet, and
+        # that difference, always of one sign on a curve, would turn the right track
+        # (interpolated between the neighbouring left strides, extrapolated at either end)
+        near = [j for j in ((i + 1, i - 1) if mid_l[i] < tm else (i - 1, i + 1)) if 0 <= j < len(sl)]
+        near = [j for j in near if 0 < abs(mid_l[j] - mid_l[i]) <= p.max_stride_time_s]
+        left = head_l[i]
+        if near:
+            j = near[0]
+            dh = float(np.angle(np.exp(1j * (head_l[j] - head_l[i]))))
+            left = head_l[i] + dh * (tm - mid_l[i]) / (mid_l[j] - mid_l[i])
+        ang = left - np.arctan2(dr[1], dr[0])
+        rows.append((tm, float(ang), float(np.linalg.norm(dl) * np.linalg.norm(dr))))
     return np.asarray(rows, dtype=float).reshape(-1, 3)
 
 
