@@ -188,3 +188,5 @@ def test_feet_on_a_bending_walk_are_not_turned_against_each_other(radius_m):
     assert rows.shape[0] >= 15
     # half a stride's turn: 2.5° at 15 m, 0.9° at 40 m; now below a hundredth of that
     assert np.max(np.abs(np.rad2deg(rows[:, 1]))) < 0.01 * np.rad2deg(abs(step))
+    overlap = _pair_yaw_samples(left, None, right, None, GaitParams(pair_yaw_at_mid_time=False))  # type: ignore[arg-type]
+    assert np.median(np.abs(overlap[:, 1])) == pytest.approx(abs(step), rel=0.05)  # half a stride

@@ -228,7 +228,7 @@ def _pair_yaw_samples(
         near = [j for j in ((i + 1, i - 1) if mid_l[i] < tm else (i - 1, i + 1)) if 0 <= j < len(sl)]
         near = [j for j in near if 0 < abs(mid_l[j] - mid_l[i]) <= p.max_stride_time_s]
         left = head_l[i]
-        if near:
+        if near and p.pair_yaw_at_mid_time:
             j = near[0]
             dh = float(np.angle(np.exp(1j * (head_l[j] - head_l[i]))))
             left = head_l[i] + dh * (tm - mid_l[i]) / (mid_l[j] - mid_l[i])

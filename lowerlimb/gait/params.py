@@ -72,6 +72,10 @@ class GaitParams:
         pair_yaw_window_s: Standard deviation of the Gaussian kernel over which the heading
             between the two feet's trajectories is averaged, s (``inf``: one rotation for
             the whole walk).
+        pair_yaw_at_mid_time: compare each right stride's direction with the left heading
+            interpolated at its own mid-time (``False``: the most overlapping left stride's,
+            as before; on a bending walk that differs by half a stride's turn, always of one
+            sign, and drifts the step width).
         max_standing_leg_tilt_deg: In the standing reference, a calibrated leg (hip to
             ankle) tilted further than this from the vertical is taken as a calibration error
             and replaced by the vertical when the feet are anchored to each other, deg
@@ -105,6 +109,7 @@ class GaitParams:
     gravity_mps2: float | None = None
     turn_heading_deg: float = 20.0
     pair_yaw_window_s: float = 10.0
+    pair_yaw_at_mid_time: bool = True
     max_standing_leg_tilt_deg: float = 15.0
     sensor_to_ankle_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     max_ds_fraction: float = 0.4
