@@ -24,7 +24,9 @@ Step length and width need both feet in one horizontal frame. Each foot is
 integrated on its own, so (i) the right trajectory is rotated about the
 vertical onto the left one, stride by stride, by the kernel-weighted circular
 mean (:attr:`GaitParams.pair_yaw_window_s`) of the heading differences of
-simultaneous straight strides (both feet walk the same way; the two feet's
+simultaneous straight strides, each right stride against the left heading interpolated
+at its own mid-time (:attr:`GaitParams.pair_yaw_at_mid_time`; the overlapping left
+stride itself is half a stride's turn away on a bending walk) (both feet walk the same way; the two feet's
 headings drift apart by degrees over minutes, which a single rotation would
 turn into decimetres of step width), and (ii) the
 remaining translation is unobservable from foot IMUs alone: it comes from a
