@@ -28,7 +28,6 @@ Usage: ``python benchmarks/bilateral_gait.py [--data ../shared/data]``; writes
 
 from __future__ import annotations
 
-import argparse
 import importlib.util
 import json
 import sys
@@ -47,6 +46,7 @@ from lowerlimb.outputs_bilateral import run_calibrate_bilateral
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _realwalk import IDS, STAND, WALK, load_vicon, raw_dir  # noqa: E402
+from _results import real_data_main  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 MATCH_S = 0.2
@@ -290,16 +290,7 @@ def markdown(res: dict[str, Any]) -> str:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
-    ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
-    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
-    args = ap.parse_args()
-    res = run(args.data)
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "bilateral_gait.json").write_text(json.dumps(res, indent=1, default=float))
-    md = markdown(res)
-    (args.out / "bilateral_gait.md").write_text(md)
-    print(md)
+    real_data_main(__doc__, "bilateral_gait", run, markdown)
 
 
 if __name__ == "__main__":

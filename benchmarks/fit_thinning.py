@@ -18,7 +18,7 @@ Usage: ``python benchmarks/fit_thinning.py [--seeds 1 2 3] [--minutes 5 20]``; w
 from __future__ import annotations
 
 import argparse
-import json
+import sys
 import time
 import warnings
 from pathlib import Path
@@ -28,6 +28,9 @@ import numpy as np
 
 from lowerlimb.calibration import CalibrationOptions, calibrate_leg
 from lowerlimb.simulation import simulate
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _results import write_results  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIGS = {"every sample": CalibrationOptions(fit_max_samples=None), "default": CalibrationOptions()}
@@ -117,11 +120,7 @@ def main() -> None:
     for minutes in args.minutes:
         seeds = args.seeds if minutes <= 5 else args.seeds[:1]  # one 20-minute walk: ~1 min
         rows += [one_walk(minutes, s) for s in seeds]
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "fit_thinning.json").write_text(json.dumps(rows, indent=1))
-    md = markdown(rows)
-    (args.out / "fit_thinning.md").write_text(md)
-    print(md)
+    write_results(args.out, "fit_thinning", rows, markdown(rows))
 
 
 if __name__ == "__main__":

@@ -150,6 +150,19 @@ def _length_errors(res: Any, truth: dict[str, Any]) -> dict[str, list[float]]:
     return out
 
 
+def matched_strides(sim: Any, res: Any) -> list[tuple[Any, Any]]:
+    """Pairs (true stride, estimated stride) of one side starting within MATCH_S, after SKIP_S."""
+    est = res.gait.parameters.strides if res.gait.parameters is not None else []
+    pairs = []
+    for st in sim.gait.strides:
+        if st.start_s < SKIP_S:
+            continue
+        cand = [s for s in est if s.side == st.side and abs(s.start_s - st.start_s) < MATCH_S]
+        if cand:
+            pairs.append((st, cand[0]))
+    return pairs
+
+
 def score_simulation(
     seed: int,
     duration_s: float,
@@ -199,15 +212,8 @@ def score_simulation(
             errs, missed = _event_errors(np.asarray(true_s), np.asarray(est))
             out[f"{side}_{kind}_ms"] = errs
             out[f"{side}_{kind}_missed"] = missed
-    strides = res.gait.parameters.strides if res.gait.parameters is not None else []
     length, width, step = [], [], []
-    for st in sim.gait.strides:
-        if st.start_s < SKIP_S:
-            continue
-        cand = [s for s in strides if s.side == st.side and abs(s.start_s - st.start_s) < MATCH_S]
-        if not cand:
-            continue
-        c = cand[0]
+    for st, c in matched_strides(sim, res):
         length.append(100.0 * (c.stride_length_m - st.stride_length_m) / st.stride_length_m)
         width.append(1000.0 * (c.step_width_m - st.step_width_m))
         step.append(1000.0 * (c.step_length_m - st.step_length_m))

@@ -17,7 +17,7 @@ Usage: ``python benchmarks/gait_long.py [--seeds 201 202 203] [--minutes 5]``; w
 from __future__ import annotations
 
 import argparse
-import json
+import sys
 import time
 import warnings
 from pathlib import Path
@@ -29,30 +29,25 @@ from lowerlimb.bilateral import process_bilateral_trial
 from lowerlimb.gait import GaitParams
 from lowerlimb.simulation import simulate_bilateral
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _results import write_results  # noqa: E402
+from gait import matched_strides  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[1]
 CONFIGS = {"mid-time (default)": GaitParams(), "overlap (before)": GaitParams(pair_yaw_at_mid_time=False)}
-SKIP_S = 3.0  # standing and the first step
-MATCH_S = 0.2
 
 
 def _errors(sim: Any, res: Any) -> np.ndarray:
     """(K, 4) rows ``(start s, step width mm, step length mm, stride length %)`` of matched strides."""
-    est = res.gait.parameters.strides if res.gait.parameters is not None else []
-    rows = []
-    for st in sim.gait.strides:
-        if st.start_s < SKIP_S:
-            continue
-        c = [s for s in est if s.side == st.side and abs(s.start_s - st.start_s) < MATCH_S]
-        if not c:
-            continue
-        rows.append(
-            (
-                st.start_s,
-                1000.0 * (c[0].step_width_m - st.step_width_m),
-                1000.0 * (c[0].step_length_m - st.step_length_m),
-                100.0 * (c[0].stride_length_m / st.stride_length_m - 1.0),
-            )
+    rows = [
+        (
+            st.start_s,
+            1000.0 * (c.step_width_m - st.step_width_m),
+            1000.0 * (c.step_length_m - st.step_length_m),
+            100.0 * (c.stride_length_m / st.stride_length_m - 1.0),
         )
+        for st, c in matched_strides(sim, res)
+    ]
     return np.asarray(rows, dtype=float).reshape(-1, 4)
 
 
@@ -121,11 +116,7 @@ def main() -> None:
     ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
     args = ap.parse_args()
     rows = [one_walk(s, args.minutes) for s in args.seeds]
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "gait_long.json").write_text(json.dumps(rows, indent=1, default=float))
-    md = markdown(rows)
-    (args.out / "gait_long.md").write_text(md)
-    print(md)
+    write_results(args.out, "gait_long", rows, markdown(rows))
 
 
 if __name__ == "__main__":

@@ -25,7 +25,6 @@ Usage: ``python benchmarks/marker_hip.py [--data ../shared/data]``; writes
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from pathlib import Path
@@ -36,6 +35,7 @@ from scipy.optimize import least_squares
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _realwalk import STAND, WALK, load_vicon  # noqa: E402
+from _results import real_data_main  # noqa: E402
 from real_gait import straight_passes  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -180,16 +180,7 @@ def markdown(res: dict[str, Any]) -> str:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
-    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
-    args = ap.parse_args()
-    res = run(args.data)
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "marker_hip.json").write_text(json.dumps(res, indent=1))
-    md = markdown(res)
-    (args.out / "marker_hip.md").write_text(md)
-    print(md)
+    real_data_main(__doc__, "marker_hip", run, markdown)
 
 
 if __name__ == "__main__":

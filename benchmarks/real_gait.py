@@ -30,8 +30,6 @@ Usage: ``python benchmarks/real_gait.py [--data ../shared/data]``; writes
 
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 import time
 import warnings
@@ -46,6 +44,7 @@ from lowerlimb.conventions import ANGLE_COLUMNS
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _realwalk import STAND, WALK, leg_mapping, load_vicon, raw_dir  # noqa: E402
+from _results import real_data_main  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 GOALS = {"length_mm": 20.0, "knee_deg": 5.0, "hip_deg": 5.0, "ankle_deg": 5.0, "hip_ankle_mm": 25.0}
@@ -210,16 +209,7 @@ def to_markdown(res: dict) -> str:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
-    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
-    args = ap.parse_args()
-    res = run(args.data)
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "real_gait.json").write_text(json.dumps(res, indent=1))
-    md = to_markdown(res)
-    (args.out / "real_gait.md").write_text(md)
-    print(md)
+    real_data_main(__doc__, "real_gait", run, to_markdown)
 
 
 if __name__ == "__main__":
