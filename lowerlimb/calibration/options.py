@@ -209,17 +209,16 @@ class CalibrationOptions:
             widened and record how far each centre moves
             (:mod:`~lowerlimb.calibration.cutoff_probe`; a record, no estimate changes).
         cutoff_probe_factor: the widening factor (> 1).
-        fit_max_samples: a longer trial's joint-centre fits (norm and aligned form) and
-            hinge-axis solves use every k-th sample of the low-passed signals, so that at
-            most this many remain (``None``: all samples; the hinge's sign rules and every
-            diagnostic still read all of them).
-            The signals are low-passed well below the rate, so neighbouring samples carry
-            nearly the same information; the spreads stay honest because they scale with
-            the residual's correlation time. Trials up to 2 minutes at 100 Hz are fitted
-            on every sample.
         cutoff_probe_max_samples: the probe refits a longer trial on every k-th sample, so
             that at most this many remain (a record of centimetre shifts does not need all of
             a 20-minute walk; the refits were a third of its calibration time).
+        fit_max_samples: a longer trial's joint-centre fits (norm and aligned form) and
+            hinge-axis solves use every k-th sample of the low-passed signals, so that at
+            most this many remain (``None``: all samples; the hinge's sign rules and every
+            diagnostic still read all of them). Neighbouring low-passed samples nearly
+            repeat each other; the spreads stay as they were because they scale with the
+            residual's correlation time. Trials up to 2 minutes at 100 Hz are fitted on
+            every sample (``benchmarks/results/fit_thinning.md``).
         clock_sync: estimate the sensors' clock offsets from the joints after a first
             calibration and, when they explain the joints' mismatch, re-time the signals
             and calibrate again (:mod:`~lowerlimb.calibration.clock_sync`; applied by

@@ -24,11 +24,12 @@ Step length and width need both feet in one horizontal frame. Each foot is
 integrated on its own, so (i) the right trajectory is rotated about the
 vertical onto the left one, stride by stride, by the kernel-weighted circular
 mean (:attr:`GaitParams.pair_yaw_window_s`) of the heading differences of
-simultaneous straight strides, each right stride against the left heading interpolated
-at its own mid-time (:attr:`GaitParams.pair_yaw_at_mid_time`; the overlapping left
-stride itself is half a stride's turn away on a bending walk) (both feet walk the same way; the two feet's
+simultaneous straight strides (both feet walk the same way; the two feet's
 headings drift apart by degrees over minutes, which a single rotation would
-turn into decimetres of step width), and (ii) the
+turn into decimetres of step width). Each right stride is compared with the left
+heading interpolated at its own mid-time (:attr:`GaitParams.pair_yaw_at_mid_time`):
+on a bending walk the overlapping left stride is half a stride's turn away, always
+on one side, and that bias drifted a 5-minute walk's step width by 2 m. (ii) The
 remaining translation is unobservable from foot IMUs alone: it comes from a
 :class:`FootAnchor` (e.g. from the calibrated chain, or a standing posture).
 Without an anchor, step length and step width are NaN (``null`` in JSON).
@@ -221,22 +222,27 @@ def _pair_yaw_samples(
         if not ov or max(ov) <= 0:
             continue
         i = int(np.argmax(ov))
-        dl = sl[i][2]
         tm = 0.5 * (a0 + a1)
-        # the left heading at the right stride's own mid-time: a walk that bends turns by
-        # about half a stride's worth between overlapping strides of the two feet, and
-        # that difference, always of one sign on a curve, would turn the right track
-        # (interpolated between the neighbouring left strides, extrapolated at either end)
-        near = [j for j in ((i + 1, i - 1) if mid_l[i] < tm else (i - 1, i + 1)) if 0 <= j < len(sl)]
-        near = [j for j in near if 0 < abs(mid_l[j] - mid_l[i]) <= p.max_stride_time_s]
-        left = head_l[i]
-        if near and p.pair_yaw_at_mid_time:
-            j = near[0]
-            dh = float(np.angle(np.exp(1j * (head_l[j] - head_l[i]))))
-            left = head_l[i] + dh * (tm - mid_l[i]) / (mid_l[j] - mid_l[i])
+        left = _left_heading_at(tm, i, mid_l, head_l, p) if p.pair_yaw_at_mid_time else head_l[i]
         ang = left - np.arctan2(dr[1], dr[0])
-        rows.append((tm, float(ang), float(np.linalg.norm(dl) * np.linalg.norm(dr))))
+        rows.append((tm, float(ang), float(np.linalg.norm(sl[i][2]) * np.linalg.norm(dr))))
     return np.asarray(rows, dtype=float).reshape(-1, 3)
+
+
+def _left_heading_at(tm: float, i: int, mid: FloatArray, heading: FloatArray, p: GaitParams) -> float:
+    """The left foot's stride heading at time ``tm`` (s), rad.
+
+    From its stride ``i`` (the most overlapping) and a neighbour: interpolated between
+    them, extrapolated at the walk's ends. ``mid`` (s) and ``heading`` (rad) are the left
+    straight strides' mid-times and directions.
+    """
+    order = (i + 1, i - 1) if mid[i] < tm else (i - 1, i + 1)
+    near = [j for j in order if 0 <= j < len(mid) and 0 < abs(mid[j] - mid[i]) <= p.max_stride_time_s]
+    if not near:
+        return float(heading[i])
+    j = near[0]
+    dh = float(np.angle(np.exp(1j * (heading[j] - heading[i]))))
+    return float(heading[i] + dh * (tm - mid[i]) / (mid[j] - mid[i]))
 
 
 def _yaw_at(samples: FloatArray, t: FloatArray, window_s: float) -> FloatArray:
