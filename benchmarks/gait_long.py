@@ -10,8 +10,9 @@ stride's, as before) and scores every stride against the simulator's truth, per 
 - step width and step length error, mm (median of the signed errors in that minute);
 - stride length error, % (median).
 
-Usage: ``python benchmarks/gait_long.py [--seeds 201 202 203] [--minutes 5]``; writes
-``benchmarks/results/gait_long.{md,json}``.
+Usage: ``python benchmarks/gait_long.py [--seeds 201 202 203] [--minutes 5] [--name gait_long]``;
+writes ``benchmarks/results/<name>.{md,json}`` (``gait_long_10min`` holds
+``--minutes 10 --seeds 11 201``).
 """
 
 from __future__ import annotations
@@ -114,9 +115,10 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, nargs="+", default=[201, 202, 203])
     ap.add_argument("--minutes", type=float, default=5.0)
     ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
+    ap.add_argument("--name", default="gait_long", help="results file stem")
     args = ap.parse_args()
     rows = [one_walk(s, args.minutes) for s in args.seeds]
-    write_results(args.out, "gait_long", rows, markdown(rows))
+    write_results(args.out, args.name, rows, markdown(rows))
 
 
 if __name__ == "__main__":
