@@ -227,15 +227,22 @@ def build_model(
     height_m: float,
     mass_kg: float,
     s2j: S2JModel | None = None,
+    positions: bool = True,
 ) -> tuple[LegModel, FloatArray, S2JModel]:
-    """Stage 4: the calibrated leg, its (N, 6) positions (m) and the S2J model they used (M1 by default)."""
+    """Stage 4: the calibrated leg, its (N, 6) positions (m) and the S2J model they used (M1 by default).
+
+    ``positions=False`` skips the forward kinematics of every sample: the positions are
+    then an empty (0, 6) array.
+    """
     model = LegModel(calibrated_geometry(calibration, motion.frames, height_m=height_m, mass_kg=mass_kg))
+    own = s2j is None
     if s2j is None:
         s2j = S2JModel("M1", constant_s2j_from_calibration(calibration))
-        positions = chain_positions(model, motion.angles_rad)
-    else:
-        positions = chain_positions(model, motion.angles_rad, s2j.predict(motion.angles_rad))
-    return model, positions, s2j
+    if not positions:
+        return model, np.zeros((0, 6)), s2j
+    if own:  # this calibration's constant vectors are the model's own placements
+        return model, chain_positions(model, motion.angles_rad), s2j
+    return model, chain_positions(model, motion.angles_rad, s2j.predict(motion.angles_rad)), s2j
 
 
 class _Stopwatch:
@@ -270,6 +277,7 @@ def process_trial(
     progress: bool = False,
     calibration_options: CalibrationOptions | None = None,
     side_check: bool = True,
+    positions: bool = True,
 ) -> TrialResult:
     """Calibrate a trial and compute its joint angles and positions.
 
@@ -291,6 +299,9 @@ def process_trial(
         side_check: refuse a trial whose calibrated hip lies on the other side of the
             pelvis sensor (:func:`~lowerlimb.calibration.plausibility.check_side`); made
             only when the trial starts standing (the pelvis frame's "right" comes from it).
+        positions: compute the forward kinematics of every sample; ``False`` leaves
+            ``positions_m`` an empty (0, 6) array, for a caller that recomputes the chain
+            (the two-leg pipeline's one-pelvis stage).
 
     Raises:
         InputError: a calibration of the other leg, swapped sensor columns
@@ -336,7 +347,9 @@ def process_trial(
     clock.stop("segment frames, angles")
 
     clock.start()
-    model, positions, s2j_used = build_model(calib, motion, height_m=height_m, mass_kg=mass_kg, s2j=s2j)
+    model, positions_m, s2j_used = build_model(
+        calib, motion, height_m=height_m, mass_kg=mass_kg, s2j=s2j, positions=positions
+    )
     clock.stop("forward kinematics")
     if side_check and trial.standing_samples(1.0, still) > 0:
         # the pelvis frame's "right" comes from the standing reference: without one, no verdict
@@ -360,7 +373,7 @@ def process_trial(
         orientations.quat_wxyz,
         motion,
         model,
-        positions,
+        positions_m,
         s2j_used,
         clock.timings_s,
         orientations.used_mag,

@@ -107,6 +107,8 @@ def test_two_simulated_legs_share_the_hips_and_keep_zero_at_standing():
         res = process_bilateral_trial(sim.trial)
         own = process_bilateral_trial(sim.trial, one_pelvis=False)
     assert res.pelvis is not None and own.pelvis is None
+    n = sim.trial.time_s.size  # the first pass skips the positions only when the pelvis stage redoes them
+    assert all(r.legs[s].positions_m.shape == (n, 6) for r in (res, own) for s in SIDES)
     # the joint hip centres feed the positions; each leg's angles stay zero at the standing
     # reference (docs/conventions.md), so each keeps its own pelvis segment frame
     still = sim.trial.time_s < 1.0

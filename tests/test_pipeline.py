@@ -203,3 +203,17 @@ def test_disturbed_magnetometer_is_ignored_with_a_warning():
     assert res.used_mag is False and "shank" in res.calibration_dict()["magnetometer_rejected"]
     rmse = np.rad2deg(np.sqrt(np.mean((res.angles_rad - sim.angles_rad) ** 2, axis=0)))
     assert rmse.max() < 3.0
+
+
+def test_positions_can_be_left_to_the_caller():
+    """``positions=False`` skips the per-sample forward kinematics and changes nothing else."""
+    from lowerlimb.pipeline import process_trial
+
+    sim = cached_simulation("walk", 20.0, 33)
+    full = process_trial(sim.trial, use_mag=False)
+    bare = process_trial(sim.trial, use_mag=False, positions=False)
+    assert full.positions_m.shape == (sim.trial.time_s.size, 6) and bare.positions_m.shape == (0, 6)
+    np.testing.assert_array_equal(bare.angles_rad, full.angles_rad)
+    np.testing.assert_array_equal(
+        bare.model.geometry.joint_origins["knee"], full.model.geometry.joint_origins["knee"]
+    )

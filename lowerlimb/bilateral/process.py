@@ -374,6 +374,7 @@ def process_bilateral_trial(
         "progress": progress,
         "calibration_options": calibration_options,
         "side_check": False,  # two legs: the pair of hips decides (_check_pair_sides)
+        "positions": not one_pelvis,  # the one-pelvis stage recomputes them
     }
     legs: dict[str, TrialResult] = {}
     caught: dict[str, list[warnings.WarningMessage]] = {}
