@@ -69,7 +69,6 @@ def test_probe_can_be_switched_off_and_changes_no_estimate(walk) -> None:
 
 def test_a_long_trial_is_probed_on_every_kth_sample(walk) -> None:
     """The shift barely depends on thinning (20 s walk: 55.7 mm on all 2000 samples, 55.6 on 700)."""
-    from lowerlimb.calibration.cutoff_probe import thinned
     from lowerlimb.constraints.spherical import SphericalData
 
     trial, _ = walk
@@ -81,7 +80,7 @@ def test_a_long_trial_is_probed_on_every_kth_sample(walk) -> None:
             shifts.append(np.linalg.norm(calibrate_leg(trial, options=opts).hip.cutoff_shift[:3]))
     assert shifts[0] > 0.02 and abs(shifts[1] - shifts[0]) < 0.2 * shifts[0], shifts
     z = np.zeros((10, 3))
-    d = thinned(SphericalData(z, z, z, z, z, z, gyr_noise_parent=0.5), 3)
+    d = SphericalData(z, z, z, z, z, z, gyr_noise_parent=0.5).subsample(3)
     assert d.acc_parent.shape == (4, 3) and d.gyr_noise_parent == 0.5
     with pytest.raises(InputError, match="cutoff_probe_max_samples"):
         CalibrationOptions(cutoff_probe_max_samples=10)

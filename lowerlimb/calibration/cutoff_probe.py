@@ -26,8 +26,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Callable, Mapping
-from dataclasses import fields, replace
-from typing import Any
+from dataclasses import replace
 
 import numpy as np
 
@@ -37,7 +36,7 @@ from lowerlimb.calibration.results import SphericalJointCalibration
 from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import FloatArray
 
-__all__ = ["probe_options", "thinned", "with_cutoff_shifts"]
+__all__ = ["probe_options", "with_cutoff_shifts"]
 
 #: ``fit(joint, data, options) -> centre`` of one spherical joint, as the calibration fits it.
 Refit = Callable[[str, SphericalData, CalibrationOptions], SphericalJointCalibration]
@@ -54,17 +53,6 @@ def probe_options(options: CalibrationOptions) -> CalibrationOptions:
         center_std_tol_m=np.inf,
         min_rms_rate_rps=0.0,
     )
-
-
-def thinned(data: SphericalData, step: int) -> SphericalData:
-    """Every ``step``-th sample of the per-sample arrays of ``data`` (scalars kept)."""
-    n = data.acc_parent.shape[0]
-    cut: dict[str, Any] = {
-        f.name: v[::step]
-        for f in fields(data)
-        if isinstance(v := getattr(data, f.name), np.ndarray) and v.ndim >= 1 and v.shape[0] == n
-    }
-    return replace(data, **cut)
 
 
 def with_cutoff_shifts(

@@ -37,7 +37,7 @@ from lowerlimb.calibration._prepare import (
     prepare_signals,
 )
 from lowerlimb.calibration._solve import subsample_step
-from lowerlimb.calibration.cutoff_probe import thinned, with_cutoff_shifts
+from lowerlimb.calibration.cutoff_probe import with_cutoff_shifts
 from lowerlimb.calibration.excitation import issue_warnings
 from lowerlimb.calibration.hinge_joint import fit_hinge_joint
 from lowerlimb.calibration.impact_window import impact_keep_mask
@@ -517,7 +517,7 @@ def _probe_cutoffs(
         s, t, pr, kp = setup[name]
         step = subsample_step(data.acc_parent.shape[0], options.cutoff_probe_max_samples)
         if step > 1:
-            data = thinned(data, step)
+            data = data.subsample(step)
             kp = None if kp is None else np.asarray(kp)[::step]
         return fit_spherical(
             data,
