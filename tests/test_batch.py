@@ -11,8 +11,9 @@ from pathlib import Path
 import pytest
 import simcache
 
-from lowerlimb.batch import BatchParams, ManifestError, read_study, run_study
-from lowerlimb.batch.record import FAILED_DIR, MARKER
+from lowerlimb.batch import BatchParams, ManifestError, read_study, record, run_study
+from lowerlimb.batch.manifest import StudyTrial
+from lowerlimb.batch.record import FAILED_DIR, MARKER, input_hash
 from lowerlimb.cli import main
 from lowerlimb.cli._common import OUTPUT_NAMES
 from lowerlimb.io.result_files import OUTPUT_FILES
@@ -267,3 +268,14 @@ def test_centre_form_reaches_every_trial_and_only_then_the_input_hash(tmp_path):
     assert main([*argv, "--centre-form", "aligned"]) == 0
     (cal,) = out.rglob("calibration.json")
     assert json.loads(cal.read_text())["joints"]["hip"]["solver"].endswith("+aligned")
+
+
+def test_a_new_version_redoes_the_study(tmp_path, monkeypatch):
+    """The version is in the input hash: results of an earlier release are computed again."""
+    trial_file = tmp_path / "t.csv"
+    trial_file.write_text("time\n0\n")
+    trial = StudyTrial(name="t", path=trial_file, label="t.csv", side="left")
+    before = input_hash(trial, BatchParams())
+    assert input_hash(trial, BatchParams()) == before
+    monkeypatch.setattr(record, "__version__", "99.0.0")
+    assert input_hash(trial, BatchParams()) != before

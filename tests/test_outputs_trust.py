@@ -6,6 +6,7 @@ Provenance, residual units, folder permissions, the demo folder, the view, the U
 from __future__ import annotations
 
 import hashlib
+import importlib.metadata
 import json
 import os
 import re
@@ -184,3 +185,8 @@ def test_view_binds_localhost_and_stops_cleanly(view_dir, sig):
     assert proc.returncode == 0, err
     assert "Unclosed" not in err and "ResourceWarning" not in err, err
     assert _listening(port) == []  # no orphaned meshcat server keeps the port
+
+
+def test_the_installed_version_is_the_one_recorded_in_outputs():
+    """One version: the package metadata reads ``lowerlimb.__version__`` (a batch re-runs on a change)."""
+    assert importlib.metadata.version("lowerlimb") == __version__
