@@ -43,3 +43,43 @@ def test_standalone_html_replays_every_command_in_order(walk_clean):
     types = [umsgpack.unpackb(m)["type"] for m in rec.messages]
     assert types[0] == "delete" and types[-1] == "set_animation"
     assert len(scene.paths) == 4 + 4 + 3 + 1  # segments, IMUs, joint centres, knee axis
+
+
+def test_the_animation_is_meshcats_frame_by_frame_one(walk_clean):
+    """segment_animation's keys equal meshcat's ``at_frame(...).set_transform`` (three.js x, y, z, w)."""
+    from meshcat.animation import Animation
+
+    rec = CommandRecorder()
+    vis = rec.visualizer()
+    scene = draw_leg(vis, walk_clean.model, walk_clean.trial.time_s[:200], walk_clean.angles_rad[:200])
+    reference = Animation(default_framerate=scene.fps)
+    for k in range(len(scene.frame_time_s)):
+        with reference.at_frame(vis, k) as frame:
+            for seg, T in scene.segment_poses.items():
+                frame["leg"][seg].set_transform(T[k])
+    ours, theirs = scene.animation.lower(), reference.lower()
+    assert [c["path"] for c in ours] == [c["path"] for c in theirs]
+    for a, b in zip(ours, theirs, strict=True):
+        assert a["clip"]["fps"] == b["clip"]["fps"]
+        for ta, tb in zip(a["clip"]["tracks"], b["clip"]["tracks"], strict=True):
+            assert (ta["name"], ta["type"]) == (tb["name"], tb["type"])
+            assert [key["time"] for key in ta["keys"]] == [key["time"] for key in tb["keys"]]
+            va = np.array([key["value"] for key in ta["keys"]])
+            assert np.allclose(va, np.array([key["value"] for key in tb["keys"]]), atol=1e-12)
+
+
+def test_recorded_commands_are_the_bytes_meshcat_would_send(walk_clean):
+    """The C packer gives meshcat's umsgpack bytes, numpy geometry (Ext) included."""
+    sent = []
+    rec = CommandRecorder()
+    vis = rec.visualizer()
+    vis.window.send = lambda command: sent.append(command)
+    draw_leg(vis, walk_clean.model, walk_clean.trial.time_s[:50], walk_clean.angles_rad[:50])
+    assert sent
+    packed = [umsgpack.packb(c.lower()) for c in sent]
+    ours = []
+    for c in sent:
+        CommandRecorder.send(rec, c)
+        ours.append(rec.messages[-1])
+    assert ours == packed
+    assert any(b"Float32Array" in m for m in ours)  # numpy geometry: umsgpack.Ext → msgpack.ExtType
