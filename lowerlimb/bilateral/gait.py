@@ -16,7 +16,10 @@ The :mod:`lowerlimb.gait` stages, fed with what the calibration knows:
    turned into the earth frame with the pelvis orientation, at the last double-support
    instant (both feet stationary) before the first initial contact, in the walking
    coordinates of the left foot's next stride;
-4. :func:`~lowerlimb.gait.compute_gait_parameters`.
+4. the chain's right-minus-left ankle vector at every right initial contact
+   (:func:`~lowerlimb.bilateral.chain_steps.chain_steps`), which removes the slow drift
+   of one foot's track against the other (:mod:`lowerlimb.gait.drift`);
+5. :func:`~lowerlimb.gait.compute_gait_parameters`.
 """
 
 from __future__ import annotations
@@ -43,6 +46,7 @@ from ..gait import (
     integrate_foot,
 )
 from ..pipeline import TrialResult
+from .chain_steps import chain_steps
 
 __all__ = ["BilateralGait", "NoGaitWarning", "analyse_gait", "chain_anchor"]
 
@@ -222,7 +226,10 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
         trajs[s] = replace(tr, position_m=tr.point_m(offsets[s]))
     p_ankle = replace(p, sensor_to_ankle_m=(0.0, 0.0, 0.0))  # the trajectories are the ankle centres
     anchor = chain_anchor(legs, events, trajs, p_ankle)
-    parameters = compute_gait_parameters(events, trajs["left"], trajs["right"], anchor=anchor, params=p_ankle)
+    chain = chain_steps(legs, events, p_ankle)
+    parameters = compute_gait_parameters(
+        events, trajs["left"], trajs["right"], anchor=anchor, chain=chain, params=p_ankle
+    )
     t0 = float(trial.time_s[0])
     shifted = GaitEvents(left=_shift(events.left, t0), right=_shift(events.right, t0), extras=events.extras)
     return BilateralGait(shifted, parameters, anchor, offsets, trajs)

@@ -37,13 +37,14 @@ Without an anchor, step length and step width are NaN (``null`` in JSON).
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from typing import Any
 
 import numpy as np
 
 from lowerlimb.conventions import FloatArray, rot_z
 from lowerlimb.gait.contacts import Contacts, foot_contacts, heading_change_rad
+from lowerlimb.gait.drift import ChainSteps, TrackDrift, fit_track_drift
 from lowerlimb.gait.events import GaitEvents, SideEvents
 from lowerlimb.gait.params import GaitParams
 from lowerlimb.gait.trajectory import FootTrajectory
@@ -107,6 +108,8 @@ class GaitParameters:
         event_sources: ``{side: {"initial_contact": method, "toe_off_from_foot": n,
             "toe_off_from_shank": n}}``: where each leg's events came from
             (:class:`~lowerlimb.gait.events.SideEvents`).
+        track_drift: the drift of the right track against the left one removed with the
+            calibrated chain (:mod:`lowerlimb.gait.drift`), or ``None``.
     """
 
     strides: list[Stride]
@@ -114,6 +117,7 @@ class GaitParameters:
     anchored: bool
     params: GaitParams = field(default_factory=GaitParams)
     event_sources: dict[str, dict[str, Any]] = field(default_factory=dict)
+    track_drift: TrackDrift | None = None
 
     def select(self, side: str | None = None, *, turning: bool = False) -> list[Stride]:
         """Strides of one leg (or both) that are (not) turning."""
@@ -161,6 +165,7 @@ class GaitParameters:
         out["turning"] = {side: self.summary(side, turning=True) for side in _SIDES}
         out["relative_heading_deg"] = self.relative_heading_deg
         out["anchored"] = self.anchored
+        out["track_drift_max_m"] = None if self.track_drift is None else self.track_drift.max_m
         out["event_sources"] = self.event_sources
         out["params"] = asdict(self.params)
         return out
@@ -309,12 +314,38 @@ def _anchor_shift(
     return shift
 
 
+def _track_drift(
+    cl: Contacts, cr: Contacts, chain: ChainSteps, anchor_time_s: float, p: GaitParams
+) -> TrackDrift | None:
+    """Fit the right track's drift from the chain steps at right contacts on straight left strides."""
+    thr = np.deg2rad(p.turn_heading_deg)
+    rows = []
+    for t, fwd, lft in zip(chain.time_s, chain.forward_m, chain.left_m, strict=True):
+        k = int(np.argmin(np.abs(cr.time_s - t))) if len(cr.time_s) else -1
+        before = np.flatnonzero(cl.time_s < t)
+        if k < 0 or abs(cr.time_s[k] - t) > 1e-6 or not before.size or before[-1] + 1 >= len(cl.time_s):
+            continue
+        j = int(before[-1])
+        step = cl.position_m[j + 1, :2] - cl.position_m[j, :2]
+        length = float(np.linalg.norm(step))
+        if not np.isfinite(length) or length == 0.0:
+            continue
+        if abs(heading_change_rad(cl.R_earth_sensor[j], cl.R_earth_sensor[j + 1])) > thr:
+            continue
+        u = step / length
+        on_chain = fwd * u + lft * np.array([-u[1], u[0]])
+        rows.append((t, *(on_chain - (cr.position_m[k, :2] - cl.position_m[j, :2])), *u))
+    r = np.asarray(rows, dtype=float).reshape(-1, 5)
+    return fit_track_drift(r[:, 0], r[:, 1:3], r[:, 3:5], anchor_time_s, p)
+
+
 def compute_gait_parameters(
     events: GaitEvents,
     left: FootTrajectory | None = None,
     right: FootTrajectory | None = None,
     *,
     anchor: FootAnchor | None = None,
+    chain: ChainSteps | None = None,
     params: GaitParams | None = None,
 ) -> GaitParameters:
     """Spatio-temporal parameters of every stride.
@@ -324,6 +355,9 @@ def compute_gait_parameters(
         left: Left foot trajectory (for lengths and turn detection), or ``None``.
         right: Right foot trajectory, or ``None``.
         anchor: Right-minus-left foot offset at one instant, needed for step length/width.
+        chain: The calibrated chain's right-minus-left ankle vectors at right contacts; with
+            an anchor, the slow drift between the two tracks is removed with them
+            (:mod:`lowerlimb.gait.drift`).
         params: Thresholds (``turn_heading_deg``, ``sensor_to_ankle_m``, ``max_stride_time_s``,
             ``max_ds_fraction``; defaults: :class:`GaitParams`).
 
@@ -341,6 +375,7 @@ def compute_gait_parameters(
             contacts[side] = foot_contacts(tr, ev.initial_contact_s, offset, 0.5 * p.max_stride_time_s)
     yaw = float("nan")
     anchored = False
+    drift: TrackDrift | None = None
     if "left" in contacts and "right" in contacts and events.left and events.right and left and right:
         samples = _pair_yaw_samples(contacts["left"], events.left, contacts["right"], events.right, p)
         if samples.shape[0]:
@@ -361,6 +396,12 @@ def compute_gait_parameters(
                 period=cr.period,
             )
             anchored = True
+            if chain is not None:
+                drift = _track_drift(contacts["left"], contacts["right"], chain, anchor.time_s, p)
+                if drift is not None:
+                    moved = contacts["right"].position_m.copy()
+                    moved[:, :2] += drift.at(cr.time_s)
+                    contacts["right"] = replace(contacts["right"], position_m=moved)
     thr = np.deg2rad(p.turn_heading_deg)
     turning: dict[str, list[bool]] = {}
     heading: dict[str, list[float]] = {}
@@ -433,4 +474,5 @@ def compute_gait_parameters(
         anchored=anchored,
         params=p,
         event_sources=sources,
+        track_drift=drift,
     )

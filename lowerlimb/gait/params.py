@@ -80,6 +80,18 @@ class GaitParams:
             ankle) tilted further than this from the vertical is taken as a calibration error
             and replaced by the vertical when the feet are anchored to each other, deg
             (people stand with their legs within a few degrees of vertical).
+        chain_drift_knot_s: Knot spacing of the piecewise-linear drift between the two
+            feet's tracks that the calibrated chain removes (:mod:`lowerlimb.gait.drift`),
+            s; ``None``: no drift removal (the single standing anchor only).
+        chain_drift_sd_m: Prior SD of the drift's change from one knot to the next, m
+            (a smoothness prior; on the simulated 10-minute walks the drift changes by
+            up to 0.2 m a minute).
+        chain_drift_min_steps: Fewer chain steps than this leave the tracks as anchored.
+        chain_drift_huber: Huber threshold of the drift fit, in robust SDs of its residuals.
+        chain_drift_iterations: Reweighting passes of the drift fit.
+        chain_stance_margin_s: The chain's walking direction is the stance ankle's path
+            under the pelvis from this long after the stance leg's initial contact to
+            this long before its toe-off (the flat-foot part), s.
         sensor_to_ankle_m: Constant vector from the foot sensor to the ankle centre in
             the foot sensor frame, m (zeros: gait geometry on the sensor positions).
         max_ds_fraction: A double-support interval longer than this fraction of the
@@ -111,6 +123,12 @@ class GaitParams:
     pair_yaw_window_s: float = 10.0
     pair_yaw_at_mid_time: bool = True
     max_standing_leg_tilt_deg: float = 15.0
+    chain_drift_knot_s: float | None = 60.0
+    chain_drift_sd_m: float = 0.05
+    chain_drift_min_steps: int = 20
+    chain_drift_huber: float = 2.5
+    chain_drift_iterations: int = 5
+    chain_stance_margin_s: float = 0.1
     sensor_to_ankle_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     max_ds_fraction: float = 0.4
 

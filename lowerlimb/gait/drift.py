@@ -1,0 +1,159 @@
+"""The slow drift of one foot's track against the other, removed with the calibrated chain.
+
+Each foot is integrated on its own (:mod:`lowerlimb.gait.trajectory`); after the
+right track is turned onto the left one and anchored to it once
+(:mod:`lowerlimb.gait.parameters`), the two still drift apart: a small difference in
+the feet's scale or heading errors grows with the distance walked. On a simulated
+10-minute walk the right foot fell behind the left one by a metre, and step width
+and step length were lost.
+
+The calibrated chain (pelvis, hips, both legs) gives the right-minus-left ankle vector
+at every right initial contact, in the walking frame of the left foot's stance, with
+no drift at all, but with a bias: on the real walk of ``gait/`` its lateral part is
+20 cm off Vicon's. So the chain is used only for what changes over time. With
+``o_i = chain_i − track_i`` the chain-minus-track vectors (earth frame of the left
+track) at the right contacts ``t_i``, the model is
+
+    o_i = R(ψ_i) b + F(t_i) + e_i,
+
+``b`` the chain's constant bias in the walking frame (forward, left), ``R(ψ_i)`` the
+left stride's walking direction, and ``F`` a piecewise-linear drift with knots every
+:attr:`GaitParams.chain_drift_knot_s` from the anchor, pinned to zero there (the
+anchor's offset is kept). Consecutive knots get a Gaussian prior of
+:attr:`GaitParams.chain_drift_sd_m`; large residuals (turning steps, a stumble)
+are down-weighted by Huber weights. The right track then moves by ``F(t)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from lowerlimb.conventions import FloatArray
+from lowerlimb.gait.params import GaitParams
+
+__all__ = ["ChainSteps", "TrackDrift", "fit_track_drift"]
+
+_MIN_SD_M = 1e-4  # floor of the residual scale (an exact chain in tests), m
+
+
+@dataclass(frozen=True)
+class ChainSteps:
+    """The calibrated chain's right-minus-left ankle vector at right initial contacts.
+
+    Attributes:
+        time_s: (M,) right initial-contact times, s from sample 0.
+        forward_m: (M,) component along the walking direction of the left foot's
+            stance (the stance ankle's path under the pelvis), m.
+        left_m: (M,) component along up × forward (to the walker's left), m.
+    """
+
+    time_s: FloatArray
+    forward_m: FloatArray
+    left_m: FloatArray
+
+
+@dataclass(frozen=True)
+class TrackDrift:
+    """The fitted drift of the right track against the left one.
+
+    Attributes:
+        knot_time_s: (K,) knot times, s from sample 0; the first is the anchor's.
+        knot_offset_m: (K, 2) drift ``F`` at the knots, earth frame of the left track
+            (horizontal), m; the first row is zero.
+        chain_bias_m: (2,) the chain's constant offset (forward, left) against the
+            anchored tracks, m.
+        residual_sd_m: robust SD of the chain-minus-track residuals, m.
+        steps_used: number of chain steps fitted.
+    """
+
+    knot_time_s: FloatArray
+    knot_offset_m: FloatArray
+    chain_bias_m: FloatArray
+    residual_sd_m: float
+    steps_used: int
+
+    def at(self, time_s: FloatArray) -> FloatArray:
+        """(N, 2) drift at ``time_s`` (s), m; zero before the anchor, constant after the last knot."""
+        t = np.atleast_1d(np.asarray(time_s, dtype=float))
+        return np.column_stack([np.interp(t, self.knot_time_s, self.knot_offset_m[:, j]) for j in range(2)])
+
+    @property
+    def max_m(self) -> float:
+        """Largest drift removed, m."""
+        return float(np.max(np.linalg.norm(self.knot_offset_m, axis=1)))
+
+
+def _hat_basis(t: FloatArray, knots: FloatArray) -> FloatArray:
+    """(N, K−1) piecewise-linear basis at ``t`` of the knots after the first (pinned to zero)."""
+    values = np.eye(len(knots))[:, 1:]
+    return np.column_stack([np.interp(t, knots, values[:, j]) for j in range(values.shape[1])])
+
+
+def fit_track_drift(
+    time_s: FloatArray,
+    offset_m: FloatArray,
+    walking_dir: FloatArray,
+    anchor_time_s: float,
+    params: GaitParams,
+) -> TrackDrift | None:
+    """Fit ``o_i = R(ψ_i) b + F(t_i)`` (module docstring) by iteratively reweighted least squares.
+
+    Args:
+        time_s: (M,) times of the chain steps, s from sample 0.
+        offset_m: (M, 2) chain minus track vectors, earth frame of the left track, m.
+        walking_dir: (M, 2) unit walking directions of the left strides, same frame.
+        anchor_time_s: where the drift is pinned to zero, s.
+        params: ``chain_drift_knot_s``, ``chain_drift_sd_m``, ``chain_drift_min_steps``,
+            ``chain_drift_huber``.
+
+    Returns:
+        The fit, or ``None`` when it is switched off or there are fewer than
+        ``chain_drift_min_steps`` steps.
+    """
+    knot_s = params.chain_drift_knot_s
+    keep = np.all(np.isfinite(offset_m), axis=1) & np.all(np.isfinite(walking_dir), axis=1)
+    keep &= time_s > anchor_time_s
+    if knot_s is None or np.count_nonzero(keep) < params.chain_drift_min_steps:
+        return None
+    t, o, u = time_s[keep], offset_m[keep], walking_dir[keep]
+    n_knots = max(2, int(np.ceil((t[-1] - anchor_time_s) / knot_s)) + 1)
+    knots = np.asarray(anchor_time_s + knot_s * np.arange(n_knots), dtype=float)
+    B = _hat_basis(t, knots)
+    k = B.shape[1]
+    m = len(t)
+    # unknowns: b (forward, left), then F_x and F_y at knots 1..K-1
+    M = np.zeros((2 * m, 2 + 2 * k))
+    M[:m, 0], M[m:, 0] = u[:, 0], u[:, 1]
+    M[:m, 1], M[m:, 1] = -u[:, 1], u[:, 0]
+    M[:m, 2 : 2 + k] = B
+    M[m:, 2 + k :] = B
+    y = np.concatenate([o[:, 0], o[:, 1]])
+    D = np.eye(k) - np.eye(k, k=-1)  # knot-to-knot changes, the first from the pinned zero
+    prior = np.zeros((2 * k, 2 + 2 * k))
+    prior[:k, 2 : 2 + k] = D
+    prior[k:, 2 + k :] = D
+    w = np.ones(2 * m)
+    sd = max(_robust_sd(y - M @ _solve(M, y, w, prior, 1.0)), _MIN_SD_M)  # a first scale
+    for _ in range(params.chain_drift_iterations):
+        sol = _solve(M, y, w, prior, sd / params.chain_drift_sd_m)
+        r = y - M @ sol
+        sd = max(_robust_sd(r), _MIN_SD_M)
+        w = np.minimum(1.0, params.chain_drift_huber * sd / np.maximum(np.abs(r), 1e-12))
+    F = np.zeros((n_knots, 2))
+    F[1:, 0], F[1:, 1] = sol[2 : 2 + k], sol[2 + k :]
+    return TrackDrift(knots, F, sol[:2].copy(), sd, m)
+
+
+def _solve(M: FloatArray, y: FloatArray, w: FloatArray, prior: FloatArray, prior_weight: float) -> FloatArray:
+    """Weighted least squares with a stacked prior block (rows ``prior · x ≈ 0``)."""
+    sw = np.sqrt(w)
+    A = np.vstack([M * sw[:, None], prior_weight * prior])
+    rhs = np.concatenate([y * sw, np.zeros(prior.shape[0])])
+    return np.asarray(np.linalg.lstsq(A, rhs, rcond=None)[0])
+
+
+def _robust_sd(r: FloatArray) -> float:
+    """1.4826 × the median absolute residual."""
+    return float(1.4826 * np.median(np.abs(r)))

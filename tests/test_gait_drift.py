@@ -1,0 +1,117 @@
+"""The drift of one foot's track against the other, removed with the chain (lowerlimb.gait.drift)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from test_gait_trajectory import RATE, W, _both
+
+from lowerlimb.gait import FootAnchor, GaitParams, compute_gait_parameters
+from lowerlimb.gait.drift import ChainSteps, fit_track_drift
+
+STEP_S = 0.55  # one right contact per stride, s
+
+
+def _walk(duration_s: float, turn: str, rng: np.random.Generator):
+    """Times (s) and unit walking directions of right contacts on a walk.
+
+    ``turn``: "straight"; "bend" (a steady turn of 1.2°/step); "laps" (30 s passes,
+    turning back between them).
+    """
+    t = np.arange(1.0, duration_s, STEP_S)
+    if turn == "straight":
+        psi = np.full_like(t, 0.3)
+    elif turn == "bend":
+        psi = np.deg2rad(1.2) * np.arange(t.size)
+    else:
+        psi = np.pi * (np.floor(t / 30.0) % 2)
+    psi = psi + np.deg2rad(2.0) * rng.standard_normal(t.size)  # stride-to-stride wobble
+    return t, np.column_stack([np.cos(psi), np.sin(psi)])
+
+
+def _offsets(t, u, drift, bias, noise_m, rng):
+    """Chain minus track: the chain's bias turned with the walk, plus the track's drift, plus noise."""
+    lateral = np.column_stack([-u[:, 1], u[:, 0]])
+    return bias[0] * u + bias[1] * lateral + drift(t) + noise_m * rng.standard_normal((t.size, 2))
+
+
+def _drift(t):
+    """A drift that speeds up and turns: 1 m in 10 minutes, as on the simulated walk seed 11."""
+    return np.column_stack([-1.0e-6 * (t - 0.5) ** 2 * 2.8, 2.0e-4 * (t - 0.5) + 0.03 * np.sin(t / 90.0)])
+
+
+@pytest.mark.parametrize("turn", ["bend", "laps"])
+@pytest.mark.parametrize("bias", [(-0.06, 0.02), (0.05, 0.2)])
+def test_the_drift_is_found_and_the_chains_bias_left_out(turn, bias):
+    rng = np.random.default_rng(1)
+    t, u = _walk(600.0, turn, rng)
+    o = _offsets(t, u, _drift, np.asarray(bias), 0.03, rng)
+    fit = fit_track_drift(t, o, u, 0.5, GaitParams())
+    assert fit is not None and fit.steps_used == t.size
+    err = fit.at(t) - _drift(t)
+    assert np.median(np.linalg.norm(err, axis=1)) < 0.015  # a drift of up to 1 m
+    assert np.max(np.linalg.norm(err, axis=1)) < 0.05
+    assert fit.chain_bias_m == pytest.approx(bias, abs=0.01)
+    assert fit.residual_sd_m == pytest.approx(0.03 * np.sqrt(1.0), rel=0.25)
+    assert fit.at(np.array([0.0, 0.5])) == pytest.approx(np.zeros((2, 2)))  # pinned at the anchor
+
+
+def test_a_biased_chain_on_a_straight_walk_moves_nothing():
+    """Walking straight, the chain's bias and a constant offset look alike: the anchor is kept."""
+    rng = np.random.default_rng(2)
+    t, u = _walk(300.0, "straight", rng)
+    o = _offsets(t, u, lambda x: np.zeros((x.size, 2)), np.array([0.1, 0.2]), 0.03, rng)
+    fit = fit_track_drift(t, o, u, 0.5, GaitParams())
+    assert fit is not None
+    assert fit.max_m < 0.02
+
+
+def test_outlying_steps_do_not_pull_the_drift():
+    rng = np.random.default_rng(3)
+    t, u = _walk(300.0, "laps", rng)
+    o = _offsets(t, u, _drift, np.array([0.0, 0.2]), 0.03, rng)
+    bad = rng.choice(t.size, t.size // 20, replace=False)
+    o[bad] += 0.5  # a stumble, a missed contact
+    fit = fit_track_drift(t, o, u, 0.5, GaitParams())
+    assert fit is not None
+    assert np.median(np.linalg.norm(fit.at(t) - _drift(t), axis=1)) < 0.015
+
+
+def test_too_few_steps_or_switched_off_leave_the_tracks():
+    rng = np.random.default_rng(4)
+    t, u = _walk(300.0, "laps", rng)
+    o = _offsets(t, u, _drift, np.zeros(2), 0.03, rng)
+    assert fit_track_drift(t, o, u, 0.5, GaitParams(chain_drift_knot_s=None)) is None
+    n = GaitParams().chain_drift_min_steps
+    assert fit_track_drift(t[: n - 1], o[: n - 1], u[: n - 1], 0.5, GaitParams()) is None
+    nan = o.copy()
+    nan[n - 1 :] = np.nan  # only finite steps count
+    assert fit_track_drift(t, nan, u, 0.5, GaitParams()) is None
+
+
+def test_step_geometry_survives_a_drifting_track():
+    """The right foot's track drifts 2 cm/s forward and 1 cm/s sideways; an exact chain undoes it."""
+    ev, trl, trr = _both()
+    anchor = FootAnchor(time_s=0.5, forward_m=0.0, left_m=-W)
+    exact = compute_gait_parameters(ev, trl, trr, anchor=anchor)
+    t = np.arange(trr.position_m.shape[0]) / RATE
+    drifted = replace(trr, position_m=trr.position_m + np.column_stack([0.02 * t, 0.01 * t, 0 * t]))
+    assert ev.right is not None
+    k = np.round((ev.right.initial_contact_s + 0.05) * RATE).astype(int)
+    d = trr.position_m[k] - trl.position_m[k]
+    chain = ChainSteps(ev.right.initial_contact_s, d[:, 0] + 0.05, d[:, 1] - 0.2)  # biased, along x
+    p = GaitParams(chain_drift_knot_s=2.0, chain_drift_min_steps=3)
+    lost = compute_gait_parameters(ev, trl, drifted, anchor=anchor, params=p)
+    found = compute_gait_parameters(ev, trl, drifted, anchor=anchor, chain=chain, params=p)
+    assert found.track_drift is not None and lost.track_drift is None
+
+    def steps(gp):
+        rows = [(s.step_length_m, s.step_width_m) for s in gp.strides]
+        return np.array([r for r in rows if np.isfinite(r[1])])
+
+    truth, bad, good = steps(exact), steps(lost), steps(found)
+    assert np.max(np.abs(bad - truth)) > 0.05
+    assert np.max(np.abs(good - truth)) < 0.01
+    assert found.to_dict()["track_drift_max_m"] == pytest.approx(found.track_drift.max_m)
