@@ -115,3 +115,5 @@ def test_step_geometry_survives_a_drifting_track():
     assert np.max(np.abs(bad - truth)) > 0.05
     assert np.max(np.abs(good - truth)) < 0.01
     assert found.to_dict()["track_drift_max_m"] == pytest.approx(found.track_drift.max_m)
+    # each foot's stride length is its own track's: the drift between the feet leaves it alone
+    assert [s.stride_length_m for s in found.strides] == [s.stride_length_m for s in lost.strides]

@@ -355,12 +355,14 @@ def test_numpy_runtime_warnings_do_not_reach_the_user(tmp_path):
 def test_ctrl_c_swallowed_by_an_import_still_stops_the_run(tmp_path):
     # an optional import that catches BaseException swallows the KeyboardInterrupt of Ctrl-C
     script = """
-        import os, signal, sys
+        import signal, sys
         import lowerlimb.cli as cli
 
         def run(args):
             try:  # what a third-party optional import does
-                os.kill(os.getpid(), signal.SIGINT)
+                # raise_signal, not os.kill: delivered to this thread before it returns (os.kill may
+                # land in a BLAS thread, and the handler then runs after the write, a flaky test)
+                signal.raise_signal(signal.SIGINT)
             except BaseException:
                 pass
             from lowerlimb.io.atomic import populate_directory

@@ -373,6 +373,7 @@ def compute_gait_parameters(
         ev, tr = evs[side], trajs[side]
         if ev is not None and tr is not None:
             contacts[side] = foot_contacts(tr, ev.initial_contact_s, offset, 0.5 * p.max_stride_time_s)
+    own = dict(contacts)  # each foot's own track: its stride lengths owe nothing to the other foot
     yaw = float("nan")
     anchored = False
     drift: TrackDrift | None = None
@@ -428,7 +429,8 @@ def compute_gait_parameters(
             length = step_len = width = hdg = nan
             turn = step_turn = False
             if c is not None:
-                length = float(np.linalg.norm(c.position_m[k + 1, :2] - c.position_m[k, :2]))
+                mine = own[side].position_m
+                length = float(np.linalg.norm(mine[k + 1, :2] - mine[k, :2]))
                 hdg, turn = float(np.rad2deg(heading[side][k])), turning[side][k]
             if anchored and c is not None and co is not None:
                 before = np.flatnonzero(co.time_s < ic[k])
