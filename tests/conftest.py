@@ -2,11 +2,19 @@
 
 from __future__ import annotations
 
+import signal
+
 import pytest
 from required_skips import pytest_configure, pytest_runtest_makereport  # noqa: F401  (hooks)
 from simcache import cached_simulation
 
 from lowerlimb.simulation import ImuNoise, Simulation
+
+# A suite started in the background of a non-interactive shell (`pytest &`, nohup) inherits
+# an ignored SIGINT, and so would every command it starts: the Ctrl-C tests would find their
+# signal ignored. A handled signal is reset to the default in a child at exec.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.fixture(scope="session")

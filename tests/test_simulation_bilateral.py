@@ -122,3 +122,23 @@ def test_signals_look_like_walking():
 def test_too_short_a_two_leg_walk_is_refused():
     with pytest.raises(InputError, match="at least"):
         simulate_bilateral(3.0, 0)
+
+
+def test_a_walker_who_changes_pace_changes_step_length_and_width_at_constant_cadence():
+    steady = simulate_bilateral(100.0, 7, noise=ImuNoise.none())
+    pace = simulate_bilateral(100.0, 7, noise=ImuNoise.none(), pace_changes=True)
+    d = pace.draw
+    assert 0.15 <= d.pace_change <= 0.25 and 0.2 <= d.width_change <= 0.4
+    assert (steady.draw.pace_change, steady.draw.width_change) == (0.0, 0.0)
+    strides = [s for s in pace.gait.strides if s.start_s > 5.0]
+    assert all(s.stride_time_s == pytest.approx(d.stride_time_s, abs=1e-9) for s in strides)
+    for s in strides:  # stride length = the path's speed at the time × stride time, within a few %
+        mid = s.start_s + 0.5 * s.stride_time_s - 1.5
+        speed = d.speed_m_s * (1.0 + d.pace_change * np.sin(2 * np.pi * d.pace_hz * mid))
+        assert s.stride_length_m == pytest.approx(speed * d.stride_time_s, rel=0.06)
+    lengths = np.array([s.stride_length_m for s in strides])
+    widths = np.array([s.step_width_m for s in strides])
+    assert lengths.max() / lengths.min() > 1.25 and widths.max() / widths.min() > 1.3
+    # everything else is the steady walk's: the pace has its own random stream
+    np.testing.assert_array_equal(pace.trial.time_s, steady.trial.time_s)
+    assert pace.draw.stride_time_s == steady.draw.stride_time_s

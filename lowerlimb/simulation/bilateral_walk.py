@@ -18,7 +18,7 @@ tip (toe rocker, until toe-off) are pivots with zero velocity.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -381,6 +381,16 @@ def _positions(sig: dict[str, _SensorSignals]) -> FloatArray:
     return np.hstack([p2f["left"], p2f["right"], h2a["left"], h2a["right"], p2f["right"] - p2f["left"]])
 
 
+def _pace_changes(d: WalkDraw, rng: np.random.Generator) -> WalkDraw:
+    """The walk with a slow change of speed (step length) and step width drawn."""
+    return replace(
+        d,
+        pace_change=rng.uniform(0.15, 0.25),
+        pace_hz=1.0 / rng.uniform(90.0, 180.0),
+        width_change=rng.uniform(0.2, 0.4),
+    )
+
+
 def simulate_bilateral(
     duration_s: float = 60.0,
     seed: int = 0,
@@ -393,6 +403,7 @@ def simulate_bilateral(
     still_s: float = 1.5,
     artefacts: Artefacts | None = None,
     lab_field: LabField | None = LAB_FIELD,
+    pace_changes: bool = False,
 ) -> BilateralSimulation:
     """Simulate a seven-IMU walk (pelvis, both thighs, shanks and feet) with known truth.
 
@@ -413,6 +424,9 @@ def simulate_bilateral(
         lab_field: The magnetometers read the earth's field bent by dipoles under the floor
             (:mod:`lowerlimb.simulation.magnetic_field`: varying by ~15 % at the feet, ~1 %
             at the pelvis, like the real walk's lab); ``None``: one uniform field.
+        pace_changes: The walker speeds up and slows down by 15–25 % over 1.5–3 minutes at
+            constant cadence (step length follows), and the step width changes by 20–40 %
+            (their own random stream: the rest of the walk is the steady one's).
 
     Returns:
         A :class:`BilateralSimulation`.
@@ -431,6 +445,8 @@ def simulate_bilateral(
     art_rng = np.random.default_rng([seed, 9] if art is None or art.seed is None else art.seed)
     legs = _legs(height_m, mass_kg, rng)
     d = draw_walk(rng)
+    if pace_changes:
+        d = _pace_changes(d, np.random.default_rng([seed, 11]))
     t = np.arange(int(round(duration_s * rate_hz))) / rate_hz
     t0 = still_s
     z_stand, stand = _standing(legs, d.heading0_rad)

@@ -109,6 +109,10 @@ class WalkDraw:
             this long, s (:func:`_post_toe_off_pitch`).
         plantarflexion_stop_s: Then its rate falls to zero within this time, s: the largest
             plantarflexion comes ``hold + stop`` after toe-off.
+        pace_change: Relative amplitude of a slow change of walking speed at constant
+            cadence (the step length follows), 0 for a steady walk.
+        pace_hz: Frequency of that change and of the step width's, Hz.
+        width_change: Relative amplitude of the slow change of step width.
     """
 
     stride_time_s: float
@@ -131,6 +135,9 @@ class WalkDraw:
     swing_peak_fraction: float
     plantarflexion_hold_s: float
     plantarflexion_stop_s: float
+    pace_change: float = 0.0
+    pace_hz: float = 0.0
+    width_change: float = 0.0
 
 
 def draw_walk(rng: np.random.Generator) -> WalkDraw:
@@ -298,7 +305,7 @@ def pelvis_path(t: FloatArray, d: WalkDraw, t0: float) -> tuple[FloatArray, Floa
     """Heading (N,), rad; path point (N, 2), m; and the start-up ramp (N,) of the pelvis."""
     ramp = smoothstep(t, t0, d.stride_time_s)
     heading = d.heading0_rad + d.turn_amplitude_rad * np.sin(2 * np.pi * d.turn_hz * (t - t0)) * ramp
-    speed = d.speed_m_s * ramp
+    speed = d.speed_m_s * ramp * (1.0 + d.pace_change * np.sin(2 * np.pi * d.pace_hz * (t - t0)))
     dt = np.diff(t, prepend=t[0])
     xy = np.cumsum((speed * dt)[:, None] * np.column_stack([np.cos(heading), np.sin(heading)]), axis=0)
     return heading, xy, ramp
@@ -334,7 +341,8 @@ def _stances(
         if t_mid > t[-1]:  # extrapolate the path past the end
             c = xy[-1] + (t_mid - t[-1]) * d.speed_m_s * np.array([np.cos(psi), np.sin(psi)])
         left_dir = np.array([-np.sin(psi), np.cos(psi)])
-        ankle = np.array([*(c + lat * 0.5 * d.step_width_m * left_dir), stand[2]])
+        width = d.step_width_m * (1.0 + d.width_change * np.sin(2 * np.pi * d.pace_hz * (t_mid - t0) + 1.0))
+        ankle = np.array([*(c + lat * 0.5 * width * left_dir), stand[2]])
         out.append(
             _Stance(
                 ankle,
