@@ -31,9 +31,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from lowerlimb.conventions import FloatArray
+from lowerlimb.gait.contacts import Contacts, heading_change_rad
 from lowerlimb.gait.params import GaitParams
 
-__all__ = ["ChainSteps", "TrackDrift", "fit_track_drift"]
+__all__ = ["ChainSteps", "TrackDrift", "fit_track_drift", "right_track_drift"]
 
 _MIN_SD_M = 1e-4  # floor of the residual scale (an exact chain in tests), m
 
@@ -157,3 +158,39 @@ def _solve(M: FloatArray, y: FloatArray, w: FloatArray, prior: FloatArray, prior
 def _robust_sd(r: FloatArray) -> float:
     """1.4826 × the median absolute residual."""
     return float(1.4826 * np.median(np.abs(r)))
+
+
+def right_track_drift(
+    cl: Contacts, cr: Contacts, chain: ChainSteps, anchor_time_s: float, p: GaitParams
+) -> TrackDrift | None:
+    """The right track's drift from the chain steps at right contacts on straight left strides.
+
+    Args:
+        cl: left contacts (the reference track).
+        cr: right contacts, turned onto the left track and anchored.
+        chain: the chain's right-minus-left ankle vectors at right contacts.
+        anchor_time_s: where the drift is pinned to zero, s from sample 0.
+        p: ``turn_heading_deg`` and the ``chain_drift_*`` thresholds.
+
+    Returns:
+        :func:`fit_track_drift` of the chain-minus-track vectors, or ``None``.
+    """
+    thr = np.deg2rad(p.turn_heading_deg)
+    rows = []
+    for t, fwd, lft in zip(chain.time_s, chain.forward_m, chain.left_m, strict=True):
+        k = int(np.argmin(np.abs(cr.time_s - t))) if len(cr.time_s) else -1
+        before = np.flatnonzero(cl.time_s < t)
+        if k < 0 or abs(cr.time_s[k] - t) > 1e-6 or not before.size or before[-1] + 1 >= len(cl.time_s):
+            continue
+        j = int(before[-1])
+        step = cl.position_m[j + 1, :2] - cl.position_m[j, :2]
+        length = float(np.linalg.norm(step))
+        if not np.isfinite(length) or length == 0.0:
+            continue
+        if abs(heading_change_rad(cl.R_earth_sensor[j], cl.R_earth_sensor[j + 1])) > thr:
+            continue
+        u = step / length
+        on_chain = fwd * u + lft * np.array([-u[1], u[0]])
+        rows.append((t, *(on_chain - (cr.position_m[k, :2] - cl.position_m[j, :2])), *u))
+    r = np.asarray(rows, dtype=float).reshape(-1, 5)
+    return fit_track_drift(r[:, 0], r[:, 1:3], r[:, 3:5], anchor_time_s, p)

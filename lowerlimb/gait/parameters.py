@@ -32,7 +32,10 @@ on a bending walk the overlapping left stride is half a stride's turn away, alwa
 on one side, and that bias drifted a 5-minute walk's step width by 2 m. (ii) The
 remaining translation is unobservable from foot IMUs alone: it comes from a
 :class:`FootAnchor` (e.g. from the calibrated chain, or a standing posture).
-Without an anchor, step length and step width are NaN (``null`` in JSON).
+Without an anchor, step length and step width are NaN (``null`` in JSON). (iii) Given
+the chain's right-minus-left ankle vectors at the right contacts, the slow drift that
+remains between the tracks is removed (:mod:`lowerlimb.gait.drift`); each foot's stride
+length stays its own track's.
 """
 
 from __future__ import annotations
@@ -44,7 +47,7 @@ import numpy as np
 
 from lowerlimb.conventions import FloatArray, rot_z
 from lowerlimb.gait.contacts import Contacts, foot_contacts, heading_change_rad
-from lowerlimb.gait.drift import ChainSteps, TrackDrift, fit_track_drift
+from lowerlimb.gait.drift import ChainSteps, TrackDrift, right_track_drift
 from lowerlimb.gait.events import GaitEvents, SideEvents
 from lowerlimb.gait.params import GaitParams
 from lowerlimb.gait.trajectory import FootTrajectory
@@ -314,31 +317,6 @@ def _anchor_shift(
     return shift
 
 
-def _track_drift(
-    cl: Contacts, cr: Contacts, chain: ChainSteps, anchor_time_s: float, p: GaitParams
-) -> TrackDrift | None:
-    """Fit the right track's drift from the chain steps at right contacts on straight left strides."""
-    thr = np.deg2rad(p.turn_heading_deg)
-    rows = []
-    for t, fwd, lft in zip(chain.time_s, chain.forward_m, chain.left_m, strict=True):
-        k = int(np.argmin(np.abs(cr.time_s - t))) if len(cr.time_s) else -1
-        before = np.flatnonzero(cl.time_s < t)
-        if k < 0 or abs(cr.time_s[k] - t) > 1e-6 or not before.size or before[-1] + 1 >= len(cl.time_s):
-            continue
-        j = int(before[-1])
-        step = cl.position_m[j + 1, :2] - cl.position_m[j, :2]
-        length = float(np.linalg.norm(step))
-        if not np.isfinite(length) or length == 0.0:
-            continue
-        if abs(heading_change_rad(cl.R_earth_sensor[j], cl.R_earth_sensor[j + 1])) > thr:
-            continue
-        u = step / length
-        on_chain = fwd * u + lft * np.array([-u[1], u[0]])
-        rows.append((t, *(on_chain - (cr.position_m[k, :2] - cl.position_m[j, :2])), *u))
-    r = np.asarray(rows, dtype=float).reshape(-1, 5)
-    return fit_track_drift(r[:, 0], r[:, 1:3], r[:, 3:5], anchor_time_s, p)
-
-
 def compute_gait_parameters(
     events: GaitEvents,
     left: FootTrajectory | None = None,
@@ -398,7 +376,7 @@ def compute_gait_parameters(
             )
             anchored = True
             if chain is not None:
-                drift = _track_drift(contacts["left"], contacts["right"], chain, anchor.time_s, p)
+                drift = right_track_drift(contacts["left"], contacts["right"], chain, anchor.time_s, p)
                 if drift is not None:
                     moved = contacts["right"].position_m.copy()
                     moved[:, :2] += drift.at(cr.time_s)
