@@ -179,7 +179,8 @@ def _gait_section(result: BilateralResult) -> str:
         contacts,
         list(ANGLE_COLUMNS[1:]),
         parameters={side: gait[side] for side in SIDES if isinstance(gait.get(side), dict)},
-        overall={k: v for k, v in gait.items() if k not in SIDES and not isinstance(v, (list, str))},
+        # numbers only: not the flags (``anchored``), texts or per-side and per-stride lists
+        overall={k: v for k, v in gait.items() if k not in SIDES and not isinstance(v, (list, str, bool))},
     )
 
 

@@ -260,3 +260,5 @@ def test_two_leg_report_overlays_the_gait_cycles_of_both_sides(two_legs):
     page = (out / "report.html").read_text()
     assert "id='gait-cycles'" in page  # both simulated legs walk (in phase)
     assert "gait-parameters" in page and "SI (%)" in page
+    table = page.split("id='gait-parameters'", 1)[1].split("</table>", 1)[0]
+    assert "anchored" not in table  # a flag, not a parameter
