@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from test_gait_trajectory import RATE, W, _both
 
+from lowerlimb.errors import InputError
 from lowerlimb.gait import FootAnchor, GaitParams, compute_gait_parameters
 from lowerlimb.gait.drift import ChainSteps, fit_track_drift
 
@@ -117,3 +118,20 @@ def test_step_geometry_survives_a_drifting_track():
     assert found.to_dict()["track_drift_max_m"] == pytest.approx(found.track_drift.max_m)
     # each foot's stride length is its own track's: the drift between the feet leaves it alone
     assert [s.stride_length_m for s in found.strides] == [s.stride_length_m for s in lost.strides]
+
+
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [
+        ("chain_drift_knot_s", 0.0),
+        ("chain_drift_knot_s", float("nan")),
+        ("chain_drift_sd_m", -0.05),
+        ("chain_drift_huber", 0.0),
+        ("chain_drift_min_steps", 0),
+        ("chain_drift_iterations", 0),
+        ("chain_stance_margin_s", -0.1),
+    ],
+)
+def test_impossible_drift_settings_are_refused_with_their_name(field, value):
+    with pytest.raises(InputError, match=field):
+        GaitParams(**{field: value})

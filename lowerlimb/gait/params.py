@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from lowerlimb.errors import InputError
+
 __all__ = ["GaitParams", "samples"]
 
 
@@ -134,6 +136,21 @@ class GaitParams:
     chain_stance_margin_s: float = 0.1
     sensor_to_ankle_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     max_ds_fraction: float = 0.4
+
+    def __post_init__(self) -> None:
+        knot = self.chain_drift_knot_s
+        if knot is not None and not knot > 0:
+            raise InputError(f"chain_drift_knot_s must be > 0 s or None (no drift removal), got {knot}")
+        for name in ("chain_drift_sd_m", "chain_drift_huber"):
+            if not getattr(self, name) > 0:
+                raise InputError(f"{name} must be > 0, got {getattr(self, name)}")
+        if self.chain_drift_min_steps < 1 or self.chain_drift_iterations < 1:
+            raise InputError(
+                "chain_drift_min_steps and chain_drift_iterations must be at least 1, got "
+                f"{self.chain_drift_min_steps} and {self.chain_drift_iterations}"
+            )
+        if not self.chain_stance_margin_s >= 0:
+            raise InputError(f"chain_stance_margin_s must be >= 0 s, got {self.chain_stance_margin_s}")
 
 
 def samples(duration_s: float, rate_hz: float) -> int:
