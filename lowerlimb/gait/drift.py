@@ -121,30 +121,49 @@ def fit_track_drift(
     t, o, u = time_s[keep], offset_m[keep], walking_dir[keep]
     n_knots = max(2, int(np.ceil((t[-1] - anchor_time_s) / knot_s)) + 1)
     knots = np.asarray(anchor_time_s + knot_s * np.arange(n_knots), dtype=float)
+    M, prior = _design(t, u, knots)
+    sol, sd = _irls(M, np.concatenate([o[:, 0], o[:, 1]]), prior, params)
+    k = len(knots) - 1
+    F = np.zeros((n_knots, 2))
+    F[1:, 0], F[1:, 1] = sol[2 : 2 + k], sol[2 + k :]
+    return TrackDrift(knots, F, sol[:2].copy(), sd, len(t))
+
+
+def _design(t: FloatArray, u: FloatArray, knots: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The model's matrix (2M, 2 + 2(K−1)) and the smoothness prior's rows (2(K−1), same columns).
+
+    Unknowns: ``b`` (forward, left), then ``F_x`` and ``F_y`` at the knots after the first;
+    rows: the x components of the M steps, then their y components.
+    """
     B = _hat_basis(t, knots)
-    k = B.shape[1]
-    m = len(t)
-    # unknowns: b (forward, left), then F_x and F_y at knots 1..K-1
+    k, m = B.shape[1], len(t)
     M = np.zeros((2 * m, 2 + 2 * k))
     M[:m, 0], M[m:, 0] = u[:, 0], u[:, 1]
     M[:m, 1], M[m:, 1] = -u[:, 1], u[:, 0]
     M[:m, 2 : 2 + k] = B
     M[m:, 2 + k :] = B
-    y = np.concatenate([o[:, 0], o[:, 1]])
     D = np.eye(k) - np.eye(k, k=-1)  # knot-to-knot changes, the first from the pinned zero
     prior = np.zeros((2 * k, 2 + 2 * k))
     prior[:k, 2 : 2 + k] = D
     prior[k:, 2 + k :] = D
-    w = np.ones(2 * m)
+    return M, prior
+
+
+def _irls(M: FloatArray, y: FloatArray, prior: FloatArray, params: GaitParams) -> tuple[FloatArray, float]:
+    """Huber-weighted least squares with the prior scaled by the residuals' robust SD.
+
+    Returns:
+        ``(solution, robust SD of the residuals in m)``.
+    """
+    w = np.ones(len(y))
     sd = max(_robust_sd(y - M @ _solve(M, y, w, prior, 1.0)), _MIN_SD_M)  # a first scale
+    sol = np.zeros(M.shape[1])
     for _ in range(params.chain_drift_iterations):
         sol = _solve(M, y, w, prior, sd / params.chain_drift_sd_m)
         r = y - M @ sol
         sd = max(_robust_sd(r), _MIN_SD_M)
         w = np.minimum(1.0, params.chain_drift_huber * sd / np.maximum(np.abs(r), 1e-12))
-    F = np.zeros((n_knots, 2))
-    F[1:, 0], F[1:, 1] = sol[2 : 2 + k], sol[2 + k :]
-    return TrackDrift(knots, F, sol[:2].copy(), sd, m)
+    return sol, sd
 
 
 def _solve(M: FloatArray, y: FloatArray, w: FloatArray, prior: FloatArray, prior_weight: float) -> FloatArray:
