@@ -211,8 +211,10 @@ def test_outputs_have_the_two_leg_columns_and_keys(two_legs):
         assert joints["hip"]["parent_sensor"] == "pelvis" and joints["hip"]["child_sensor"] == "thigh"
         assert len(joints["knee"]["axis_in_parent_sensor"]) == 3 and "rms_residual" in joints["ankle"]
     gait = json.loads((out / "gait.json").read_text())
-    for key in ("cadence_steps_per_min", "gait_speed_m_s", "step_width_m", "left", "right"):
-        assert key in gait
+    keys = ("cadence_steps_per_min", "gait_speed_m_s", "step_width_m", "left", "right", "track_drift_max_m")
+    assert set(keys) <= set(gait)
+    drift = gait["track_drift_max_m"]  # null when nothing was removed
+    assert drift is None or 0.0 <= drift < 0.5
     for side in SIDES:
         for key in ("stride_time_s", "stride_length_m", "step_length_m", "stance_pct", "double_support_pct"):
             assert {"mean", "sd"} <= set(gait[side][key])
