@@ -231,6 +231,7 @@ def test_a_study_mixing_one_leg_and_two_leg_trials(tmp_path):
     assert two["status"] in ("ok", "warning") and two["side"] == "both"
     assert 380 < float(two["left_thigh_length_mm"]) < 470 and 380 < float(two["right_thigh_length_mm"]) < 470
     assert float(two["cadence_steps_per_min"]) > 60 and float(two["stride_length_m"]) > 0.5
+    assert 0.0 < float(two["step_width_m"]) < 0.4
     folder = {p.name for p in (out / two["folder"]).iterdir()}
     assert {"events.csv", "stationary.csv", "gait.json", "calibrated.urdf", "angles.units.json"} <= folder
     assert "s2j.json" not in folder and "report.html" not in folder

@@ -142,8 +142,9 @@ def bilateral_key_results(result: BilateralResult) -> dict[str, float]:
         ``duration_s``; each leg's :func:`key_results` with a ``left_``/``right_`` prefix;
         ``thigh_length_mm`` and ``shank_length_mm`` as the mean of the two legs (so that
         the per-subject summaries include two-leg trials); and from ``gait.json``
-        ``cadence_steps_per_min``, ``gait_speed_m_s`` and ``stride_length_m`` (mean of the
-        two legs' straight strides; NaN without walking).
+        ``cadence_steps_per_min``, ``gait_speed_m_s``, ``stride_length_m`` (mean of the
+        two legs' straight strides) and ``step_width_m`` (mean of both legs' straight steps);
+        NaN without walking.
     """
     legs = {side: key_results(result.legs[side]) for side in ("left", "right")}
     out: dict[str, float] = {"duration_s": legs["left"]["duration_s"]}
@@ -157,6 +158,8 @@ def bilateral_key_results(result: BilateralResult) -> dict[str, float]:
     out["cadence_steps_per_min"] = _rounded(gait.get("cadence_steps_per_min"))
     out["gait_speed_m_s"] = _rounded(gait.get("gait_speed_m_s"))
     out["stride_length_m"] = round(float(np.mean(finite)), 4) if finite else math.nan
+    width = gait.get("step_width_m")
+    out["step_width_m"] = _rounded(width.get("mean") if isinstance(width, dict) else None)
     return out
 
 
