@@ -142,3 +142,20 @@ def test_a_walker_who_changes_pace_changes_step_length_and_width_at_constant_cad
     # everything else is the steady walk's: the pace has its own random stream
     np.testing.assert_array_equal(pace.trial.time_s, steady.trial.time_s)
     assert pace.draw.stride_time_s == steady.draw.stride_time_s
+
+
+def test_the_command_line_simulates_a_change_of_pace_for_two_legs_only(tmp_path, capsys):
+    import json
+
+    from lowerlimb.cli import main
+
+    out, truth = tmp_path / "t.csv", tmp_path / "truth.json"
+    argv = ["simulate", "--side", "both", "--duration", "8", "--seed", "3", "--out", str(out)]
+    assert main([*argv, "--truth", str(truth), "--pace-changes"]) == 0
+    assert json.loads(truth.read_text())["walk"]["pace_change"] > 0.1
+    capsys.readouterr()
+    one = ["simulate", "--duration", "8", "--out", str(tmp_path / "one.csv"), "--pace-changes"]
+    assert main(one) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--pace-changes is a seven-IMU walk option" in err
+    assert not (tmp_path / "one.csv").exists()

@@ -68,6 +68,12 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "near the floor as real labs' do (the one-leg simulator's field is always uniform)",
     )
     p.add_argument(
+        "--pace-changes",
+        action="store_true",
+        help="with --side both: the walker speeds up and slows down (step length ±15-25 %%) and "
+        "changes step width (±20-40 %%) over 1.5-3 minutes, at constant cadence",
+    )
+    p.add_argument(
         "--force", action="store_true", help="replace existing files (default: refuse to overwrite)"
     )
 
@@ -111,9 +117,12 @@ def _check_two_leg_options(args: argparse.Namespace) -> None:
     """Refuse options the seven-IMU walk does not simulate.
 
     Raises:
-        InputError: ``--side both`` with another motion, soft tissue, or too short.
+        InputError: ``--side both`` with another motion, soft tissue, or too short;
+            ``--pace-changes`` without ``--side both``.
     """
     if args.side != "both":
+        if args.pace_changes:
+            raise InputError("--pace-changes is a seven-IMU walk option; add --side both or drop it")
         return
     if args.motion != "walk":
         raise InputError(
@@ -145,6 +154,7 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
         with_mag=not args.no_mag,
         artefacts=Artefacts.real_walk() if args.artefacts == "real" else None,
         lab_field=None if args.uniform_field else LAB_FIELD,
+        pace_changes=args.pace_changes,
     )
     t = sim.trial.time_s
     writers: dict[Path, Callable[[Path], None]] = {targets["--out"]: sim.trial.to_csv}
