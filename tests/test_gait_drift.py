@@ -116,6 +116,18 @@ def test_step_geometry_survives_a_drifting_track():
     assert np.max(np.abs(bad - truth)) > 0.05
     assert np.max(np.abs(good - truth)) < 0.01
     assert found.to_dict()["track_drift_max_m"] == pytest.approx(found.track_drift.max_m)
+    record = found.to_dict()["track_drift"]
+    assert record["knot_time_s"][0] == pytest.approx(0.5) and record["knot_offset_m"][0] == [0.0, 0.0]
+    assert record["steps_used"] == found.track_drift.steps_used and lost.to_dict()["track_drift"] is None
+    assert set(record) == {
+        "max_m",
+        "knot_time_s",
+        "knot_offset_m",
+        "chain_bias_forward_m",
+        "chain_bias_left_m",
+        "residual_sd_m",
+        "steps_used",
+    }
     # each foot's stride length is its own track's: the drift between the feet leaves it alone
     assert [s.stride_length_m for s in found.strides] == [s.stride_length_m for s in lost.strides]
 

@@ -85,6 +85,18 @@ class TrackDrift:
         """Largest drift removed, m."""
         return float(np.max(np.linalg.norm(self.knot_offset_m, axis=1)))
 
+    def to_dict(self) -> dict[str, object]:
+        """``gait.json``'s ``track_drift``: the knots, the chain's bias and the fit's residual."""
+        return {
+            "max_m": self.max_m,
+            "knot_time_s": [float(t) for t in self.knot_time_s],
+            "knot_offset_m": [[float(x), float(y)] for x, y in self.knot_offset_m],
+            "chain_bias_forward_m": float(self.chain_bias_m[0]),
+            "chain_bias_left_m": float(self.chain_bias_m[1]),
+            "residual_sd_m": self.residual_sd_m,
+            "steps_used": self.steps_used,
+        }
+
 
 def _hat_basis(t: FloatArray, knots: FloatArray) -> FloatArray:
     """(N, K−1) piecewise-linear basis at ``t`` of the knots after the first (pinned to zero)."""

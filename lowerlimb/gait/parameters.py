@@ -169,6 +169,7 @@ class GaitParameters:
         out["relative_heading_deg"] = self.relative_heading_deg
         out["anchored"] = self.anchored
         out["track_drift_max_m"] = None if self.track_drift is None else self.track_drift.max_m
+        out["track_drift"] = None if self.track_drift is None else self.track_drift.to_dict()
         out["event_sources"] = self.event_sources
         out["params"] = asdict(self.params)
         return out
