@@ -26,11 +26,13 @@ import sys
 import time
 import warnings
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 
 from lowerlimb.bilateral import process_bilateral_trial
+from lowerlimb.bilateral.gait import analyse_gait
 from lowerlimb.gait import GaitParams
 from lowerlimb.simulation import simulate_bilateral
 
@@ -69,11 +71,14 @@ def _drift_removed(res: Any) -> float | None:
 def one_walk(seed: int, minutes: float, pace_changes: bool = False) -> dict[str, Any]:
     sim = simulate_bilateral(60.0 * minutes, seed, pace_changes=pace_changes)
     out: dict[str, Any] = {"seed": seed, "minutes": minutes, "pace_changes": pace_changes}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        legs = process_bilateral_trial(sim.trial).legs  # the configurations differ in the gait stage only
     for name, gp in CONFIGS.items():
         t0 = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            res = process_bilateral_trial(sim.trial, gait_params=gp)
+            res = SimpleNamespace(gait=analyse_gait(legs, gp))
         err = _errors(sim, res)
         per_min = []
         for m in range(int(np.ceil(minutes))):
@@ -97,7 +102,7 @@ def one_walk(seed: int, minutes: float, pace_changes: bool = False) -> dict[str,
             "step_median_abs_mm": float(np.nanmedian(np.abs(err[:, 2]))),
             "step_worst_abs_mm": float(np.nanmax(np.abs(err[:, 2]))),
             "track_drift_max_m": _drift_removed(res),
-            "wall_s": time.perf_counter() - t0,
+            "gait_analysis_s": time.perf_counter() - t0,
         }
     return out
 
