@@ -116,14 +116,14 @@ def test_unit_and_continuous_under_fast_rotation(method):
 #: Upper bounds (deg) of the mean total RMSE over the 4 sensors of a simulated 30 s walk:
 #: about 1.4x the benchmarked mean over the simulated trials (benchmarks/results/orientation.md).
 WALK_BOUNDS_DEG = {
-    ("mahony", True): 2.5,  # benchmark: 1.65
-    ("mahony", False): 2.5,  # 1.69
-    ("ftecf", True): 1.8,  # 1.22 (earth-frame accelerometer low-pass; 2.27 without)
-    ("ftecf", False): 2.4,  # 1.67 (2.27)
-    ("madgwick", True): 2.0,  # 1.38 (2.52)
-    ("madgwick", False): 2.4,  # 1.70 (2.64)
-    ("quest_kf", True): 3.8,  # 2.54
-    ("quest_kf", False): 3.8,  # 2.37
+    ("mahony", True): 2.5,  # benchmark: 1.51
+    ("mahony", False): 2.5,  # 1.56
+    ("ftecf", True): 1.8,  # 1.20 (earth-frame accelerometer low-pass; 2.27 without)
+    ("ftecf", False): 2.4,  # 1.65 (2.27)
+    ("madgwick", True): 2.0,  # 1.35 (2.52)
+    ("madgwick", False): 2.4,  # 1.69 (2.64)
+    ("quest_kf", True): 3.8,  # 2.66
+    ("quest_kf", False): 3.8,  # 2.40
 }
 
 
