@@ -169,15 +169,17 @@ def score_simulation(
     artefacts: Artefacts | None = None,
     uniform_field: bool = False,
     calibration_options: CalibrationOptions | None = None,
+    rate_hz: float = 100.0,
 ) -> dict[str, Any]:
     """One simulated walk through the two-leg pipeline, scored against its truth.
 
     ``artefacts`` is the simulator's realism profile (``None``: rigid sensors);
     ``uniform_field`` replaces the lab's magnetic field by one uniform field (9-axis fusion);
-    ``calibration_options`` are passed to the pipeline (``None``: the defaults).
+    ``calibration_options`` are passed to the pipeline (``None``: the defaults); ``rate_hz``
+    is the simulated sampling rate.
     """
     kw: dict[str, Any] = {"lab_field": None} if uniform_field else {}
-    sim = simulate_bilateral(duration_s, seed, artefacts=artefacts, **kw)
+    sim = simulate_bilateral(duration_s, seed, artefacts=artefacts, rate_hz=rate_hz, **kw)
     t0 = time.perf_counter()
     refused = one_pelvis_refused = False
     with warnings.catch_warnings(record=True) as caught:

@@ -269,6 +269,7 @@ def worker(method: str, data_dir: Path, trial: str, repeats: int) -> dict[str, A
 #: (label, CalibrationOptions keywords)
 VARIANTS: tuple[tuple[str, dict[str, Any]], ...] = (
     ("defaults", {}),
+    ("fitted at the recorded 50 Hz (no interpolation)", {"min_fit_rate_hz": None}),
     ("no prefilter", {"prefilter": False}),
     ("cut-off 5 Hz", {"cutoff_hz": 5.0}),
     ("cut-off 8 Hz", {"cutoff_hz": 8.0}),

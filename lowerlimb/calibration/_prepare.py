@@ -10,6 +10,7 @@ from numpy.typing import ArrayLike
 
 from lowerlimb.calibration.joint_cutoff import joint_cutoffs_hz
 from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.calibration.upsample import upsample_factor, upsampled
 from lowerlimb.constraints.angular_acceleration import angular_acceleration, window_length
 from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass, rigid_band_hz
 from lowerlimb.constraints.regressor_noise import filter_noise_gains, white_noise_std
@@ -347,6 +348,9 @@ def prepare_pair(
 ) -> tuple[PreparedSignals, SphericalData]:
     """Check the four signals of a sensor pair and prepare them (sensors ``"p"`` and ``"c"``).
 
+    A pair recorded below ``options.min_fit_rate_hz`` is interpolated first
+    (:mod:`~lowerlimb.calibration.upsample`); the prepared signals carry the new rate.
+
     ``rigid_band`` caps the cut-offs at the pair's rigid band (off by default:
     the coherence of the accelerometer norms is a proxy made for the leg's
     gait-like motion, checked there; an arbitrary pair's motion can make the
@@ -368,6 +372,7 @@ def prepare_pair(
     ac = check_signal(acc_child, "acc_child", "m/s²", n)
     wc = check_signal(gyr_child, "gyr_child", "rad/s", n)
     check_duration(n, rate, options)
-    acc, gyr = {"p": ap, "c": ac}, {"p": wp, "c": wc}
-    sig = prepare_signals(acc, gyr, rate, options)
+    k = upsample_factor(rate, options.min_fit_rate_hz)
+    acc, gyr = upsampled({"p": ap, "c": ac}, k), upsampled({"p": wp, "c": wc}, k)
+    sig = prepare_signals(acc, gyr, rate * k, options)
     return sig, joint_signals(acc, gyr, sig, "p", "c", options, own_band=rigid_band)

@@ -105,6 +105,9 @@ def calibrate_hinge_joint(
 ) -> HingeJointCalibration:
     """Hinge axis and a centre on it between two IMUs, with diagnostics.
 
+    A pair recorded below ``options.min_fit_rate_hz`` (100 Hz) is fitted on its signals
+    interpolated to a multiple of the rate (:mod:`~lowerlimb.calibration.upsample`).
+
     Args:
         acc_parent: (N, 3) parent accelerometer (specific force), parent sensor frame, m/s².
         gyr_parent: (N, 3) parent gyroscope, parent sensor frame, rad/s.

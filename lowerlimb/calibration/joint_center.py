@@ -36,7 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 import solvers
-from lowerlimb.calibration._prepare import prepare_pair
+from lowerlimb.calibration._prepare import check_rate, prepare_pair
 from lowerlimb.calibration._rotation import low_rotation_messages
 from lowerlimb.calibration._solve import LsqProblem, solve_global, solve_local, subsample_step
 from lowerlimb.calibration.excitation import correlation_time, issue_warnings, jacobian_report
@@ -47,6 +47,7 @@ from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import SphericalJointCalibration
 from lowerlimb.calibration.robust_weights import huber_weights
 from lowerlimb.calibration.segment_prior import CenterPrior
+from lowerlimb.calibration.upsample import upsample_factor, upsampled
 from lowerlimb.constraints.spherical import (
     AXIS_GAUGE_MAP,
     SphericalData,
@@ -398,7 +399,10 @@ def calibrate_spherical_joint(
     With ``options.impact_exclusion`` (default) the samples near jerk peaks of
     either accelerometer are left out
     (:func:`~lowerlimb.calibration.impact_window.impact_keep_mask`); smooth motion
-    has none.
+    has none. A pair recorded below ``options.min_fit_rate_hz`` (100 Hz) is fitted on
+    its signals interpolated to a multiple of the rate
+    (:mod:`~lowerlimb.calibration.upsample`; the real rig at 50 Hz: centres 3.1 / 6.4 /
+    9.3 → 2.7 / 4.5 / 7.5 mm, ``benchmarks/results/rig.md``).
 
     Args:
         acc_parent: (N, 3) parent accelerometer (specific force), parent sensor frame, m/s².
@@ -426,7 +430,11 @@ def calibrate_spherical_joint(
     opts = options or CalibrationOptions()
     check_method(method)
     sig, data = prepare_pair(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, opts)
-    keep = impact_keep_mask((acc_parent, acc_child), sig.rate_hz, opts) if opts.impact_exclusion else None
+    keep = None
+    if opts.impact_exclusion:
+        k = upsample_factor(check_rate(rate_hz), opts.min_fit_rate_hz)  # as prepare_pair did
+        raw = upsampled({"p": np.asarray(acc_parent, float), "c": np.asarray(acc_child, float)}, k)
+        keep = impact_keep_mask((raw["p"], raw["c"]), sig.rate_hz, opts)
     return fit_spherical(
         data,
         method=method,

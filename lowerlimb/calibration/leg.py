@@ -47,6 +47,7 @@ from lowerlimb.calibration.knee_line import axis_mismatch_message, standing_axis
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.calibration.segment_prior import CenterPrior, center_prior, segment_up
+from lowerlimb.calibration.upsample import upsample_factor, upsampled, upsampled_still
 from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import JOINT_SENSORS, SENSORS, FloatArray
 from lowerlimb.errors import InputError
@@ -87,6 +88,9 @@ class LegCalibration:
             priors used (:mod:`~lowerlimb.calibration.segment_prior`; empty: none).
         clock_offsets: the sensors' clock offsets found and the re-timing applied
             (:meth:`~lowerlimb.calibration.clock_sync.ClockOffsets.to_dict`; empty: not estimated).
+        fit_rate_hz: the rate the joints were fitted at, Hz: the recorded one, or a multiple
+            of it for a trial below ``min_fit_rate_hz`` (:mod:`~lowerlimb.calibration.upsample`;
+            0: not recorded).
     """
 
     side: str
@@ -101,6 +105,7 @@ class LegCalibration:
     rigid_band_cap_hz: dict[str, float | None] = field(default_factory=dict)
     priors: dict[str, dict[str, Any]] = field(default_factory=dict)
     clock_offsets: dict[str, Any] = field(default_factory=dict)
+    fit_rate_hz: float = 0.0
 
     @property
     def joints(self) -> dict[str, SphericalJointCalibration | HingeJointCalibration]:
@@ -128,6 +133,7 @@ class LegCalibration:
             },
             "anthropometric_prior": dict(self.priors),
             "clock_offsets": dict(self.clock_offsets),
+            "fit_rate_hz": float(self.fit_rate_hz),
             "warnings": self.warnings,
         }
 
@@ -158,6 +164,7 @@ class LegCalibration:
                 rigid_band_cap_hz=dict(d.get("rigid_band_cap_hz", {})),
                 priors=dict(d.get("anthropometric_prior", {})),
                 clock_offsets=dict(d.get("clock_offsets", {})),
+                fit_rate_hz=float(d.get("fit_rate_hz", 0.0)),
             )
         except KeyError as e:
             raise InputError(f"calibration document lacks the key {e.args[0]!r}") from None
@@ -270,6 +277,9 @@ def calibrate_leg(
     check_duration(n, rate, opts)
 
     t0 = time.perf_counter()
+    k = upsample_factor(rate, opts.min_fit_rate_hz)
+    if k > 1:
+        acc, gyr, rate, still = upsampled(acc, k), upsampled(gyr, k), rate * k, upsampled_still(still, k)
     sig = prepare_signals(acc, gyr, rate, opts, still=still)
     if opts.check_sensor_order:
         from lowerlimb.calibration.plausibility import check_sensor_order
@@ -332,6 +342,7 @@ def calibrate_leg(
         still_s=sig.n_still / rate,
         cutoff_hz=sig.cutoff_hz,
         rigid_band_cap_hz=caps,
+        fit_rate_hz=rate,
         priors=priors,
     )
 

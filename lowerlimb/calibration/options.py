@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from lowerlimb.constraints.angular_acceleration import DEFAULT_POLYORDER, DEFAULT_WINDOW_S
@@ -212,6 +213,9 @@ class CalibrationOptions:
         cutoff_probe_max_samples: the probe refits a longer trial on every k-th sample, so
             that at most this many remain (a record of centimetre shifts does not need all of
             a 20-minute walk; the refits were a third of its calibration time).
+        min_fit_rate_hz: a trial recorded below this rate is interpolated (band-limited)
+            to the smallest integer multiple of its rate at or above it for the joint
+            calibration only (:mod:`~lowerlimb.calibration.upsample`; ``None``: never).
         fit_max_samples: a longer trial's joint-centre fits (norm and aligned form) and
             hinge-axis solves use every k-th sample of the low-passed signals, so that at
             most this many remain (``None``: all samples; the hinge's sign rules and every
@@ -300,6 +304,7 @@ class CalibrationOptions:
     cutoff_probe: bool = True
     cutoff_probe_factor: float = 1.5
     cutoff_probe_max_samples: int = 6000
+    min_fit_rate_hz: float | None = 100.0
     fit_max_samples: int | None = 12000
     clock_sync: bool = True
     clock_max_offset_s: float = 0.06
@@ -343,6 +348,8 @@ class CalibrationOptions:
             raise InputError(f"impact_max_excluded must be in [0, 1), got {self.impact_max_excluded}")
         if not all(f > 0 for f in self.knee_line_probe_factors):
             raise InputError(f"knee_line_probe_factors must all be > 0, got {self.knee_line_probe_factors}")
+        if self.min_fit_rate_hz is not None and not 0 < self.min_fit_rate_hz < math.inf:
+            raise InputError(f"min_fit_rate_hz must be > 0 Hz or None, got {self.min_fit_rate_hz}")
         if self.fit_max_samples is not None and self.fit_max_samples < 100:
             raise InputError(f"fit_max_samples must be >= 100 or None, got {self.fit_max_samples}")
         if self.cutoff_probe_max_samples < 100:

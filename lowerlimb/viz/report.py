@@ -145,6 +145,9 @@ def render_report(
         ("method", str(calibration.get("method", "—"))),
         ("samples", f"{len(time_s)} ({duration:.1f} s at {rate:.0f} Hz)" if duration > 0 else "1"),
     ]
+    fit_rate = float(calibration.get("fit_rate_hz", 0.0) or 0.0)
+    if duration > 0 and fit_rate > 1.5 * rate:
+        summary.append(("calibration fitted at", f"{fit_rate:.0f} Hz (interpolated from {rate:.0f} Hz)"))
     if "runtime_s" in calibration:
         summary.append(("calibration time", f"{float(calibration['runtime_s']):.2f} s"))
 

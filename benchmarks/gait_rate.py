@@ -1,0 +1,206 @@
+"""Sampling rate: seven-IMU walks recorded at 50, 60, 100 and 200 Hz, with and without interpolation.
+
+Many wearable systems record below 100 Hz (Movella DOT: 60 Hz by default; Xsens Awinda
+with many sensors: 60 Hz). The joint calibration differentiates the gyros and finds
+impacts on samples, so a trial below ``CalibrationOptions.min_fit_rate_hz`` (100 Hz) is
+interpolated, band-limited, to an integer multiple of its rate for the calibration only
+(``lowerlimb.calibration.upsample``). This benchmark scores both ways:
+
+- simulated: ``simulate_bilateral`` seeds 201–206, 60 s, at each rate (the simulator
+  samples its kinematics at the rate), scored as ``gait.py`` scores them;
+- real: the walk of ``gait/`` (Xsens, 100 Hz), resampled to 50 and 60 Hz
+  (``scipy.signal.resample_poly``, anti-aliased), against Vicon as ``bilateral_gait.py``.
+
+"interp" is the default (interpolated below 100 Hz); "recorded" fits the recorded samples
+(``min_fit_rate_hz=None``); at 100 Hz and above the two are the same.
+
+Usage: ``python benchmarks/gait_rate.py [--data DIR] [--seeds …] [--quick]``; writes
+``benchmarks/results/gait_rate.{md,json}``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import warnings
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from scipy.signal import resample_poly
+
+from lowerlimb.bilateral import process_bilateral_trial
+from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.io.bilateral_trial import BilateralTrial
+from lowerlimb.model.fallback import segment_lengths
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import bilateral_gait as BG  # noqa: E402
+from _realwalk import load_vicon, raw_dir  # noqa: E402
+from _results import write_results  # noqa: E402
+from gait import score_simulation, summarise_simulation  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+#: (label, rate Hz, calibration options)
+CONFIGS = (
+    ("50 Hz interp", 50.0, CalibrationOptions()),
+    ("50 Hz recorded", 50.0, CalibrationOptions(min_fit_rate_hz=None)),
+    ("60 Hz interp", 60.0, CalibrationOptions()),
+    ("60 Hz recorded", 60.0, CalibrationOptions(min_fit_rate_hz=None)),
+    ("100 Hz", 100.0, CalibrationOptions()),
+    ("200 Hz", 200.0, CalibrationOptions()),
+)
+#: resampling of the real 100 Hz walk: (label, up, down, calibration options)
+REAL = (
+    ("100 Hz (recorded)", 1, 1, CalibrationOptions()),
+    ("60 Hz interp", 3, 5, CalibrationOptions()),
+    ("60 Hz recorded", 3, 5, CalibrationOptions(min_fit_rate_hz=None)),
+    ("50 Hz interp", 1, 2, CalibrationOptions()),
+    ("50 Hz recorded", 1, 2, CalibrationOptions(min_fit_rate_hz=None)),
+)
+SIM_ROWS = (
+    ("initial_contact", "IC ms"),
+    ("toe_off", "TO ms"),
+    ("stride_length_pct", "stride %"),
+    ("step_width_mm", "step width mm"),
+    ("step_length_mm", "step length mm"),
+)
+JOINT_ROWS = (
+    ("hip in thigh sensor, mm", "hip in thigh mm"),
+    ("ankle in shank sensor, mm", "ankle in shank mm"),
+    ("ankle in foot sensor, mm", "ankle in foot mm"),
+    ("thigh length (hip to knee axis), mm", "thigh length mm"),
+    ("shank length (ankle to knee axis), mm", "shank length mm"),
+)
+
+
+def simulated(seeds: list[int], duration_s: float) -> dict[str, Any]:
+    """Each configuration's pooled scores over the seeds (``gait.summarise_simulation``)."""
+    out = {}
+    for label, rate, opts in CONFIGS:
+        trials = [score_simulation(s, duration_s, calibration_options=opts, rate_hz=rate) for s in seeds]
+        pooled = summarise_simulation(trials)
+        worst = max(max(d.values()) for d in pooled["angle_rmse_deg"]["worst"].values())
+        out[label] = {"rate_hz": rate, "pooled": pooled, "worst_angle_rmse_deg": worst}
+        print(label, "done", flush=True)
+    return out
+
+
+def resampled(trial: BilateralTrial, up: int, down: int) -> BilateralTrial:
+    """The trial at ``rate · up / down``, anti-aliased (``resample_poly``); no magnetometer."""
+    if up == down:
+        return BilateralTrial(trial.time_s, trial.acc, trial.gyr, None, source="real")
+
+    def r(d: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        return {k: resample_poly(v, up, down, axis=0, padtype="line") for k, v in d.items()}
+
+    acc, gyr = r(trial.acc), r(trial.gyr)
+    n = next(iter(acc.values())).shape[0]
+    time_s = trial.time_s[0] + np.arange(n) / (trial.rate_hz * up / down)
+    return BilateralTrial(time_s, acc, gyr, None, source="real")
+
+
+def real(data: Path, tmp: Path) -> dict[str, Any]:
+    """The real walk at each resampling, scored against Vicon (lengths, stride, step width)."""
+    vicon = load_vicon(data)
+    ge = BG._gait_events_module()
+    csv = tmp / "walk7.csv"
+    BG.load_xsens(raw_dir(data), BG.IDS).to_csv(csv)
+    full = BilateralTrial.from_csv(csv)
+    out = {}
+    for label, up, down, opts in REAL:
+        res = process_bilateral_trial(resampled(full, up, down), calibration_options=opts, use_mag=False)
+        lengths = {}
+        for side in ("left", "right"):
+            P = side[0].upper()
+            cal = res.legs[side].calibration
+            thigh, shank = segment_lengths(cal)
+            v_thigh = float(np.nanmedian(np.linalg.norm(vicon[P + "HJC"] - vicon[P + "KJC"], axis=1)))
+            v_shank = float(np.nanmedian(np.linalg.norm(vicon[P + "KJC"] - vicon[P + "AJC"], axis=1)))
+            lengths[side] = {"thigh_err_mm": 1000 * thigh - v_thigh, "shank_err_mm": 1000 * shank - v_shank}
+        st = BG.score_strides(res, vicon, ge)
+        out[label] = {
+            "lengths": lengths,
+            "stride_length_err_pct": st["stride_length_err_pct"],
+            "step_width_err_mm": st["step_width_err_mm"],
+        }
+        print(label, "done", flush=True)
+    return out
+
+
+def _cell(s: dict[str, Any]) -> str:
+    return f"{s['median_abs']:.1f} / {s['worst_abs']:.1f}" if s.get("n") else "–"
+
+
+def markdown(res: dict[str, Any]) -> str:
+    sim = res["simulated"]
+    labels = list(sim)
+    L = [
+        "# Sampling rate: seven-IMU walks at 50–200 Hz, interpolated for the calibration or not",
+        "",
+        f"Simulated: `simulate_bilateral` seeds {', '.join(map(str, res['seeds']))}, "
+        f"{res['duration_s']:g} s each, sampled at the rate; median / worst absolute error against "
+        "the simulator's truth. *interp*: the default, a trial below `min_fit_rate_hz` (100 Hz) "
+        "is interpolated (band-limited) to an integer multiple of its rate for the joint "
+        "calibration only; *recorded*: `min_fit_rate_hz=None`.",
+        "",
+        "| quantity | " + " | ".join(labels) + " |",
+        "|---|" + "---|" * len(labels),
+    ]
+    for key, name in SIM_ROWS:
+        L.append(f"| {name} | " + " | ".join(_cell(sim[k]["pooled"][key]) for k in labels) + " |")
+    for key, name in JOINT_ROWS:
+        L.append(f"| {name} | " + " | ".join(_cell(sim[k]["pooled"]["joints"][key]) for k in labels) + " |")
+    L.append(
+        "| worst angle RMSE, deg | "
+        + " | ".join(f"{sim[k]['worst_angle_rmse_deg']:.2f}" for k in labels)
+        + " |"
+    )
+    r = res.get("real")
+    if r:
+        rl = list(r)
+        L += [
+            "",
+            "## Real walk (`gait/`, Xsens at 100 Hz, resampled), against Vicon",
+            "",
+            "Signed segment-length errors, mm; stride length and step width of the straight strides, "
+            "median / worst absolute error.",
+            "",
+            "| quantity | " + " | ".join(rl) + " |",
+            "|---|" + "---|" * len(rl),
+        ]
+        for side in ("left", "right"):
+            for seg in ("thigh", "shank"):
+                L.append(
+                    f"| {side} {seg} mm | "
+                    + " | ".join(f"{r[k]['lengths'][side][f'{seg}_err_mm']:+.0f}" for k in rl)
+                    + " |"
+                )
+        L.append("| stride length % | " + " | ".join(_cell(r[k]["stride_length_err_pct"]) for k in rl) + " |")
+        L.append("| step width mm | " + " | ".join(_cell(r[k]["step_width_err_mm"]) for k in rl) + " |")
+    return "\n".join(L) + "\n"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
+    ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
+    ap.add_argument("--seeds", type=int, nargs="+", default=[201, 202, 203, 204, 205, 206])
+    ap.add_argument("--duration", type=float, default=60.0)
+    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
+    ap.add_argument("--quick", action="store_true", help="two seeds, 30 s, no real walk")
+    args = ap.parse_args()
+    if args.quick:
+        args.seeds, args.duration = args.seeds[:2], 30.0
+    warnings.simplefilter("ignore")
+    res: dict[str, Any] = {"seeds": args.seeds, "duration_s": args.duration}
+    res["simulated"] = simulated(args.seeds, args.duration)
+    if not args.quick and (args.data / "gait").is_dir():
+        import tempfile
+
+        with tempfile.TemporaryDirectory() as tmp:
+            res["real"] = real(args.data, Path(tmp))
+    write_results(args.out, "gait_rate", res, markdown(res))
+
+
+if __name__ == "__main__":
+    main()
