@@ -4,7 +4,7 @@ Many wearable systems record below 100 Hz (Movella DOT: 60 Hz by default; Xsens 
 with many sensors: 60 Hz). The joint calibration differentiates the gyros and finds
 impacts on samples, so a trial below ``CalibrationOptions.min_fit_rate_hz`` (100 Hz) is
 interpolated, band-limited, to an integer multiple of its rate for the calibration only
-(``lowerlimb.calibration.upsample``). This benchmark scores both ways:
+(``lowerlimb.upsample``). This benchmark scores both ways:
 
 - simulated: ``simulate_bilateral`` seeds 201–206, 60 s, at each rate (the simulator
   samples its kinematics at the rate), scored as ``gait.py`` scores them;

@@ -10,7 +10,6 @@ from numpy.typing import ArrayLike
 
 from lowerlimb.calibration.joint_cutoff import joint_cutoffs_hz
 from lowerlimb.calibration.options import CalibrationOptions
-from lowerlimb.calibration.upsample import upsample_factor, upsampled
 from lowerlimb.constraints.angular_acceleration import angular_acceleration, window_length
 from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass, rigid_band_hz
 from lowerlimb.constraints.regressor_noise import filter_noise_gains, white_noise_std
@@ -19,6 +18,7 @@ from lowerlimb.conventions import MAX_GYRO_RAD_S as GYRO_DEG_PER_S_THRESHOLD
 from lowerlimb.conventions import MIN_MEDIAN_ACC_MPS2, FloatArray
 from lowerlimb.errors import InputError, NonFiniteValueError, ShapeError, UnitError
 from lowerlimb.stillness import StillPeriod, detect_still_period, gyro_bias
+from lowerlimb.upsample import upsample_factor, upsampled
 
 #: Shortest signal accepted by the calibration, s.
 MIN_DURATION_S = 1.0
@@ -349,7 +349,7 @@ def prepare_pair(
     """Check the four signals of a sensor pair and prepare them (sensors ``"p"`` and ``"c"``).
 
     A pair recorded below ``options.min_fit_rate_hz`` is interpolated first
-    (:mod:`~lowerlimb.calibration.upsample`); the prepared signals carry the new rate.
+    (:mod:`~lowerlimb.upsample`); the prepared signals carry the new rate.
 
     ``rigid_band`` caps the cut-offs at the pair's rigid band (off by default:
     the coherence of the accelerometer norms is a proxy made for the leg's

@@ -106,7 +106,7 @@ def calibrate_hinge_joint(
     """Hinge axis and a centre on it between two IMUs, with diagnostics.
 
     A pair recorded below ``options.min_fit_rate_hz`` (100 Hz) is fitted on its signals
-    interpolated to a multiple of the rate (:mod:`~lowerlimb.calibration.upsample`).
+    interpolated to a multiple of the rate (:mod:`~lowerlimb.upsample`).
 
     Args:
         acc_parent: (N, 3) parent accelerometer (specific force), parent sensor frame, m/s².

@@ -47,7 +47,6 @@ from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import SphericalJointCalibration
 from lowerlimb.calibration.robust_weights import huber_weights
 from lowerlimb.calibration.segment_prior import CenterPrior
-from lowerlimb.calibration.upsample import upsample_factor, upsampled
 from lowerlimb.constraints.spherical import (
     AXIS_GAUGE_MAP,
     SphericalData,
@@ -59,6 +58,7 @@ from lowerlimb.constraints.spherical import (
 )
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import SolverError
+from lowerlimb.upsample import upsample_factor, upsampled
 
 __all__ = ["estimate_joint_center", "calibrate_spherical_joint", "fit_spherical"]
 
@@ -401,7 +401,7 @@ def calibrate_spherical_joint(
     (:func:`~lowerlimb.calibration.impact_window.impact_keep_mask`); smooth motion
     has none. A pair recorded below ``options.min_fit_rate_hz`` (100 Hz) is fitted on
     its signals interpolated to a multiple of the rate
-    (:mod:`~lowerlimb.calibration.upsample`; the real rig at 50 Hz: centres 3.1 / 6.4 /
+    (:mod:`~lowerlimb.upsample`; the real rig at 50 Hz: centres 3.1 / 6.4 /
     9.3 → 2.7 / 4.5 / 7.5 mm, ``benchmarks/results/rig.md``).
 
     Args:

@@ -47,11 +47,11 @@ from lowerlimb.calibration.knee_line import axis_mismatch_message, standing_axis
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.calibration.segment_prior import CenterPrior, center_prior, segment_up
-from lowerlimb.calibration.upsample import upsample_factor, upsampled, upsampled_still
 from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import JOINT_SENSORS, SENSORS, FloatArray
 from lowerlimb.errors import InputError
 from lowerlimb.stillness import StillPeriod
+from lowerlimb.upsample import upsample_factor, upsampled, upsampled_still
 
 __all__ = ["CALIBRATION_FORMAT", "LegCalibration", "calibrate_leg"]
 
@@ -89,7 +89,7 @@ class LegCalibration:
         clock_offsets: the sensors' clock offsets found and the re-timing applied
             (:meth:`~lowerlimb.calibration.clock_sync.ClockOffsets.to_dict`; empty: not estimated).
         fit_rate_hz: the rate the joints were fitted at, Hz: the recorded one, or a multiple
-            of it for a trial below ``min_fit_rate_hz`` (:mod:`~lowerlimb.calibration.upsample`;
+            of it for a trial below ``min_fit_rate_hz`` (:mod:`~lowerlimb.upsample`;
             0: not recorded).
     """
 

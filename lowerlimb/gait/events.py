@@ -27,7 +27,8 @@ timing: each minimum is refined by a parabola through it and its two neighbours.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -41,6 +42,7 @@ from lowerlimb.gait.params import GaitParams, samples
 from lowerlimb.gait.sagittal import SagittalRate, sagittal_rate
 from lowerlimb.gait.stationary import StationaryPeriods, detect_stationary
 from lowerlimb.gait.toe_off import forefoot_unloading
+from lowerlimb.upsample import upsample_factor, upsampled
 
 __all__ = ["GaitEvents", "SideEvents", "detect_gait_events", "detect_side_events"]
 
@@ -185,6 +187,9 @@ def detect_side_events(
     """
     p = params or GaitParams()
     w = as_signal(shank_gyr, "shank_gyr")
+    k = upsample_factor(rate_hz, p.min_event_rate_hz)
+    if k > 1:
+        return _timed_on_interpolated(w, rate_hz, side, k, foot_gyr, foot_acc, p, start_time_s)
     sag = sagittal_rate(w, rate_hz, p)
     om = lowpass(sag.omega_rps, p.sagittal_lowpass_hz, rate_hz)
     om_ms = lowpass(sag.omega_rps, p.midswing_lowpass_hz, rate_hz)
@@ -215,6 +220,44 @@ def detect_side_events(
         foot_sagittal=foot_sag,
         ic_method=ic_method,
         toe_off_from_foot=np.asarray(to_foot, dtype=bool),
+    )
+
+
+def _timed_on_interpolated(
+    shank_gyr: FloatArray,
+    rate_hz: float,
+    side: str,
+    k: int,
+    foot_gyr: ArrayLike | None,
+    foot_acc: ArrayLike | None,
+    p: GaitParams,
+    start_time_s: float,
+) -> SideEvents:
+    """The recorded samples' events with their times found on the signals interpolated ``k``-fold.
+
+    The stationary periods and the sagittal rates stay on the recorded samples (the feet's
+    strapdown and the output files use them); the initial contacts, toe-offs and mid-swings
+    are found again at ``k · rate_hz`` (:mod:`lowerlimb.upsample`).
+    """
+    once = replace(p, min_event_rate_hz=None)
+    kw: dict[str, Any] = {"params": once, "start_time_s": start_time_s}
+    recorded = detect_side_events(shank_gyr, rate_hz, side, foot_gyr=foot_gyr, foot_acc=foot_acc, **kw)
+    n = shank_gyr.shape[0]
+    sig = {"shank": shank_gyr}
+    if foot_gyr is not None:  # then foot_acc is an (N, 3) array too: the first call checked both
+        sig["foot"] = as_signal(foot_gyr, "foot_gyr", n)
+        sig["acc"] = as_signal(foot_acc if foot_acc is not None else np.zeros((n, 3)), "foot_acc", n)
+    fine = upsampled(sig, k)
+    timed = detect_side_events(
+        fine["shank"], rate_hz * k, side, foot_gyr=fine.get("foot"), foot_acc=fine.get("acc"), **kw
+    )
+    return replace(
+        recorded,
+        initial_contact_s=timed.initial_contact_s,
+        toe_off_s=timed.toe_off_s,
+        midswing_s=timed.midswing_s,
+        ic_method=timed.ic_method,
+        toe_off_from_foot=timed.toe_off_from_foot,
     )
 
 

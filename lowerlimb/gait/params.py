@@ -54,6 +54,11 @@ class GaitParams:
             of the foot's specific-force magnitude as the forefoot unloads
             (:mod:`lowerlimb.gait.toe_off`); the magnitude is low-passed at this cut-off
             first (unchanged at or below 100 Hz sampling), Hz.
+        min_event_rate_hz: a recording below this rate has its initial contacts, toe-offs
+            and mid-swings found on its shank and foot signals interpolated (band-limited) to
+            the smallest integer multiple of its rate at or above it; the stationary periods
+            and the sagittal rates keep the recorded samples (:mod:`lowerlimb.upsample`;
+            ``None``: never), Hz.
         unloading_min_mps2: The unloading counts only when the magnitude falls at least
             this far below that peak (about a third of g; on the real walk of ``gait/``
             it falls 10-17 m/s²), else toe-off comes from the shank, m/s².
@@ -116,6 +121,7 @@ class GaitParams:
     ic_refine_s: float = 0.04
     unloading_lowpass_hz: float = 50.0
     unloading_min_mps2: float = 3.0
+    min_event_rate_hz: float | None = 100.0
     walking_gyro_rps: float = 1.0
     shoe_window_s: float = 0.05
     shoe_sigma_acc_mps2: float = 0.5
@@ -138,6 +144,9 @@ class GaitParams:
     max_ds_fraction: float = 0.4
 
     def __post_init__(self) -> None:
+        rate = self.min_event_rate_hz
+        if rate is not None and not 0 < rate < np.inf:
+            raise InputError(f"min_event_rate_hz must be > 0 Hz or None, got {rate}")
         knot = self.chain_drift_knot_s
         if knot is not None and not knot > 0:
             raise InputError(f"chain_drift_knot_s must be > 0 s or None (no drift removal), got {knot}")
