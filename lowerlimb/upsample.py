@@ -39,9 +39,17 @@ from lowerlimb.stillness import StillPeriod
 __all__ = ["upsample_factor", "upsampled", "upsampled_still"]
 
 
+#: A rate this close below the minimum counts as reaching it: a 100 Hz recording whose
+#: timestamps say 99.8 Hz is not worth twice the samples.
+RATE_TOLERANCE = 0.05
+
+
 def upsample_factor(rate_hz: float, min_rate_hz: float | None) -> int:
-    """The smallest integer ``k ≥ 1`` with ``k · rate_hz ≥ min_rate_hz`` (1 when it is ``None``)."""
-    if min_rate_hz is None or rate_hz >= min_rate_hz:
+    """The smallest integer ``k ≥ 1`` with ``k · rate_hz ≥ min_rate_hz`` (1 when it is ``None``).
+
+    A rate within :data:`RATE_TOLERANCE` (5 %) below ``min_rate_hz`` gives 1.
+    """
+    if min_rate_hz is None or rate_hz >= (1.0 - RATE_TOLERANCE) * min_rate_hz:
         return 1
     return math.ceil(min_rate_hz / rate_hz - 1e-9)
 

@@ -25,7 +25,7 @@ LAYERS: list[set[str]] = [
     {"conventions", "methods"},
     {"errors"},
     {"stillness"},
-    {"io"},
+    {"io", "upsample"},
     {"orientation", "constraints"},
     {"calibration"},
     {"segments", "s2j", "gait"},

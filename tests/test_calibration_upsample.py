@@ -26,6 +26,13 @@ def test_the_factor_is_the_smallest_integer_reaching_the_rate(rate, factor):
     assert factor * rate >= 100.0 - 1e-9
 
 
+def test_a_rate_just_under_the_minimum_is_left_alone():
+    # timestamps of a 100 Hz recording may say 99.8 Hz: not worth twice the samples
+    assert upsample_factor(99.8, 100.0) == 1
+    assert upsample_factor(96.0, 100.0) == 1
+    assert upsample_factor(94.0, 100.0) == 2
+
+
 def test_no_minimum_rate_means_no_interpolation():
     assert upsample_factor(20.0, None) == 1
     assert upsampled({"a": np.ones((5, 3))}, 1)["a"].shape == (5, 3)

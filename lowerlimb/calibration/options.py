@@ -214,8 +214,8 @@ class CalibrationOptions:
             that at most this many remain (a record of centimetre shifts does not need all of
             a 20-minute walk; the refits were a third of its calibration time).
         min_fit_rate_hz: a trial recorded below this rate is interpolated (band-limited)
-            to the smallest integer multiple of its rate at or above it for the joint
-            calibration only (:mod:`~lowerlimb.upsample`; ``None``: never).
+            to the smallest integer multiple of its rate at or above it (5 % below it counts as
+            reaching it) for the joint calibration only (:mod:`~lowerlimb.upsample`; ``None``: never).
         fit_max_samples: a longer trial's joint-centre fits (norm and aligned form) and
             hinge-axis solves use every k-th sample of the low-passed signals, so that at
             most this many remain (``None``: all samples; the hinge's sign rules and every
