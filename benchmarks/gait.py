@@ -49,6 +49,7 @@ from lowerlimb.bilateral.pelvis import OppositeKneesError
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.conventions import ANGLE_COLUMNS, SIDES
+from lowerlimb.gait import GaitParams
 from lowerlimb.model.fallback import segment_lengths
 from lowerlimb.simulation import Artefacts, simulate_bilateral
 
@@ -170,13 +171,14 @@ def score_simulation(
     uniform_field: bool = False,
     calibration_options: CalibrationOptions | None = None,
     rate_hz: float = 100.0,
+    gait_params: GaitParams | None = None,
 ) -> dict[str, Any]:
     """One simulated walk through the two-leg pipeline, scored against its truth.
 
     ``artefacts`` is the simulator's realism profile (``None``: rigid sensors);
     ``uniform_field`` replaces the lab's magnetic field by one uniform field (9-axis fusion);
-    ``calibration_options`` are passed to the pipeline (``None``: the defaults); ``rate_hz``
-    is the simulated sampling rate.
+    ``calibration_options`` and ``gait_params`` are passed to the pipeline (``None``: the
+    defaults); ``rate_hz`` is the simulated sampling rate.
     """
     kw: dict[str, Any] = {"lab_field": None} if uniform_field else {}
     sim = simulate_bilateral(duration_s, seed, artefacts=artefacts, rate_hz=rate_hz, **kw)
@@ -184,7 +186,7 @@ def score_simulation(
     refused = one_pelvis_refused = False
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        kw = {"calibration_options": calibration_options}
+        kw = {"calibration_options": calibration_options, "gait_params": gait_params}
         try:
             res = process_bilateral_trial(sim.trial, **kw)
         except BilateralSideError:

@@ -2,8 +2,9 @@
 
 Many wearable systems record below 100 Hz (Movella DOT: 60 Hz by default; Xsens Awinda
 with many sensors: 60 Hz). The joint calibration differentiates the gyros and finds
-impacts on samples, so a trial below ``CalibrationOptions.min_fit_rate_hz`` (100 Hz) is
-interpolated, band-limited, to an integer multiple of its rate for the calibration only
+impacts on samples, and gait events are sample features, so a trial below
+``CalibrationOptions.min_fit_rate_hz`` and ``GaitParams.min_event_rate_hz`` (100 Hz) is
+interpolated, band-limited, to an integer multiple of its rate for those two stages only
 (``lowerlimb.upsample``). This benchmark scores both ways:
 
 - simulated: ``simulate_bilateral`` seeds 201–206, 60 s, at each rate (the simulator
@@ -11,8 +12,9 @@ interpolated, band-limited, to an integer multiple of its rate for the calibrati
 - real: the walk of ``gait/`` (Xsens, 100 Hz), resampled to 50 and 60 Hz
   (``scipy.signal.resample_poly``, anti-aliased), against Vicon as ``bilateral_gait.py``.
 
-"interp" is the default (interpolated below 100 Hz); "recorded" fits the recorded samples
-(``min_fit_rate_hz=None``); at 100 Hz and above the two are the same.
+"interp" is the default (interpolated below 100 Hz); "recorded" calibrates and times the
+events on the recorded samples (``min_fit_rate_hz=None``, ``min_event_rate_hz=None``); at
+100 Hz and above the two are the same.
 
 Usage: ``python benchmarks/gait_rate.py [--data DIR] [--seeds …] [--quick]``; writes
 ``benchmarks/results/gait_rate.{md,json}``.
@@ -31,6 +33,7 @@ from scipy.signal import resample_poly
 
 from lowerlimb.bilateral import process_bilateral_trial
 from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.gait import GaitParams
 from lowerlimb.io.bilateral_trial import BilateralTrial
 from lowerlimb.model.fallback import segment_lengths
 
@@ -41,22 +44,25 @@ from _results import write_results  # noqa: E402
 from gait import score_simulation, summarise_simulation  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-#: (label, rate Hz, calibration options)
+#: interpolated (the defaults) or on the recorded samples: (calibration options, gait params)
+INTERP = (CalibrationOptions(), GaitParams())
+RECORDED = (CalibrationOptions(min_fit_rate_hz=None), GaitParams(min_event_rate_hz=None))
+#: (label, rate Hz, (calibration options, gait params))
 CONFIGS = (
-    ("50 Hz interp", 50.0, CalibrationOptions()),
-    ("50 Hz recorded", 50.0, CalibrationOptions(min_fit_rate_hz=None)),
-    ("60 Hz interp", 60.0, CalibrationOptions()),
-    ("60 Hz recorded", 60.0, CalibrationOptions(min_fit_rate_hz=None)),
-    ("100 Hz", 100.0, CalibrationOptions()),
-    ("200 Hz", 200.0, CalibrationOptions()),
+    ("50 Hz interp", 50.0, INTERP),
+    ("50 Hz recorded", 50.0, RECORDED),
+    ("60 Hz interp", 60.0, INTERP),
+    ("60 Hz recorded", 60.0, RECORDED),
+    ("100 Hz", 100.0, INTERP),
+    ("200 Hz", 200.0, INTERP),
 )
-#: resampling of the real 100 Hz walk: (label, up, down, calibration options)
+#: resampling of the real 100 Hz walk: (label, up, down, (calibration options, gait params))
 REAL = (
-    ("100 Hz (recorded)", 1, 1, CalibrationOptions()),
-    ("60 Hz interp", 3, 5, CalibrationOptions()),
-    ("60 Hz recorded", 3, 5, CalibrationOptions(min_fit_rate_hz=None)),
-    ("50 Hz interp", 1, 2, CalibrationOptions()),
-    ("50 Hz recorded", 1, 2, CalibrationOptions(min_fit_rate_hz=None)),
+    ("100 Hz (recorded)", 1, 1, INTERP),
+    ("60 Hz interp", 3, 5, INTERP),
+    ("60 Hz recorded", 3, 5, RECORDED),
+    ("50 Hz interp", 1, 2, INTERP),
+    ("50 Hz recorded", 1, 2, RECORDED),
 )
 SIM_ROWS = (
     ("initial_contact", "IC ms"),
@@ -77,8 +83,9 @@ JOINT_ROWS = (
 def simulated(seeds: list[int], duration_s: float) -> dict[str, Any]:
     """Each configuration's pooled scores over the seeds (``gait.summarise_simulation``)."""
     out = {}
-    for label, rate, opts in CONFIGS:
-        trials = [score_simulation(s, duration_s, calibration_options=opts, rate_hz=rate) for s in seeds]
+    for label, rate, (opts, gp) in CONFIGS:
+        kw = {"calibration_options": opts, "gait_params": gp, "rate_hz": rate}
+        trials = [score_simulation(s, duration_s, **kw) for s in seeds]
         pooled = summarise_simulation(trials)
         worst = max(max(d.values()) for d in pooled["angle_rmse_deg"]["worst"].values())
         out[label] = {"rate_hz": rate, "pooled": pooled, "worst_angle_rmse_deg": worst}
@@ -108,8 +115,9 @@ def real(data: Path, tmp: Path) -> dict[str, Any]:
     BG.load_xsens(raw_dir(data), BG.IDS).to_csv(csv)
     full = BilateralTrial.from_csv(csv)
     out = {}
-    for label, up, down, opts in REAL:
-        res = process_bilateral_trial(resampled(full, up, down), calibration_options=opts, use_mag=False)
+    for label, up, down, (opts, gp) in REAL:
+        trial = resampled(full, up, down)
+        res = process_bilateral_trial(trial, calibration_options=opts, gait_params=gp, use_mag=False)
         lengths = {}
         for side in ("left", "right"):
             P = side[0].upper()
@@ -142,7 +150,8 @@ def markdown(res: dict[str, Any]) -> str:
         f"{res['duration_s']:g} s each, sampled at the rate; median / worst absolute error against "
         "the simulator's truth. *interp*: the default, a trial below `min_fit_rate_hz` (100 Hz) "
         "is interpolated (band-limited) to an integer multiple of its rate for the joint "
-        "calibration only; *recorded*: `min_fit_rate_hz=None`.",
+        "calibration and the gait events; *recorded*: both on the recorded samples "
+        "(`min_fit_rate_hz=None`, `min_event_rate_hz=None`).",
         "",
         "| quantity | " + " | ".join(labels) + " |",
         "|---|" + "---|" * len(labels),
