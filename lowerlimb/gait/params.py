@@ -96,6 +96,12 @@ class GaitParams:
         chain_drift_sd_m: Prior SD of the drift's change from one knot to the next, m
             (a smoothness prior; on the simulated 10-minute walks the drift changes by
             up to 0.2 m a minute).
+        chain_anchor_sd_m: Prior SD of the drift at the standing anchor itself, m: the
+            anchor's own error (the chain's geometry at one instant; 40–90 mm on two of six
+            60 s simulated walks, within 2 mm of Vicon's stance width on the real walk). A
+            walk that turns separates it from the chain's bias and the fit corrects it;
+            walking straight the prior keeps the anchor (:mod:`lowerlimb.gait.drift`).
+            ``None``: the drift is pinned to zero at the anchor.
         chain_drift_min_steps: Fewer chain steps than this leave the tracks as anchored.
         chain_drift_huber: Huber threshold of the drift fit, in robust SDs of its residuals.
         chain_drift_iterations: Reweighting passes of the drift fit.
@@ -136,6 +142,7 @@ class GaitParams:
     max_standing_leg_tilt_deg: float = 15.0
     chain_drift_knot_s: float | None = 30.0
     chain_drift_sd_m: float = 0.05
+    chain_anchor_sd_m: float | None = 0.02
     chain_drift_min_steps: int = 20
     chain_drift_huber: float = 2.5
     chain_drift_iterations: int = 5
@@ -153,6 +160,9 @@ class GaitParams:
         for name in ("chain_drift_sd_m", "chain_drift_huber"):
             if not getattr(self, name) > 0:
                 raise InputError(f"{name} must be > 0, got {getattr(self, name)}")
+        anchor_sd = self.chain_anchor_sd_m
+        if anchor_sd is not None and not anchor_sd > 0:
+            raise InputError(f"chain_anchor_sd_m must be > 0 m or None (pinned anchor), got {anchor_sd}")
         if self.chain_drift_min_steps < 1 or self.chain_drift_iterations < 1:
             raise InputError(
                 "chain_drift_min_steps and chain_drift_iterations must be at least 1, got "
