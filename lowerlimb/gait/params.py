@@ -91,7 +91,7 @@ class GaitParams:
             feet's tracks that the calibrated chain removes (:mod:`lowerlimb.gait.drift`),
             s; ``None``: no drift removal (the single standing anchor only). 30 s: on the
             simulated walks (60 s to 10 minutes, steady or changing pace) every walk's step
-            width is as good or better than at 60 s, while 10–20 s fit the chain's noise
+            width is within 0.4 mm of 60 s's or better, while 10–20 s fit the chain's noise
             on the 60 s walks (``benchmarks/results/gait_drift_knots.md``).
         chain_drift_sd_m: Prior SD of the drift's change from one knot to the next, m
             (a smoothness prior; on the simulated 10-minute walks the drift changes by
