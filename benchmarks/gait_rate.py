@@ -158,6 +158,18 @@ def _cell(s: dict[str, Any]) -> str:
     return f"{s['median_abs']:.1f} / {s['worst_abs']:.1f}" if s.get("n") else "–"
 
 
+def _event_cell(e: dict[str, float]) -> str:
+    return f"{e['median_abs_ms']:.1f} / {e['worst_abs_ms']:.1f}" if e.get("n") else "–"
+
+
+def _row(name: str, cells: list[str]) -> str:
+    return f"| {name} | " + " | ".join(cells) + " |"
+
+
+def _head(labels: list[str]) -> list[str]:
+    return [_row("quantity", labels), "|---|" + "---|" * len(labels)]
+
+
 def markdown(res: dict[str, Any]) -> str:
     sim = res["simulated"]
     labels = list(sim)
@@ -171,18 +183,11 @@ def markdown(res: dict[str, Any]) -> str:
         "calibration and the gait events; *recorded*: both on the recorded samples "
         "(`min_fit_rate_hz=None`, `min_event_rate_hz=None`).",
         "",
-        "| quantity | " + " | ".join(labels) + " |",
-        "|---|" + "---|" * len(labels),
+        *_head(labels),
     ]
-    for key, name in SIM_ROWS:
-        L.append(f"| {name} | " + " | ".join(_cell(sim[k]["pooled"][key]) for k in labels) + " |")
-    for key, name in JOINT_ROWS:
-        L.append(f"| {name} | " + " | ".join(_cell(sim[k]["pooled"]["joints"][key]) for k in labels) + " |")
-    L.append(
-        "| worst angle RMSE, deg | "
-        + " | ".join(f"{sim[k]['worst_angle_rmse_deg']:.2f}" for k in labels)
-        + " |"
-    )
+    L += [_row(name, [_cell(sim[k]["pooled"][key]) for k in labels]) for key, name in SIM_ROWS]
+    L += [_row(name, [_cell(sim[k]["pooled"]["joints"][key]) for k in labels]) for key, name in JOINT_ROWS]
+    L.append(_row("worst angle RMSE, deg", [f"{sim[k]['worst_angle_rmse_deg']:.2f}" for k in labels]))
     r = res.get("real")
     if r:
         rl = list(r)
@@ -194,24 +199,17 @@ def markdown(res: dict[str, Any]) -> str:
             "median / worst absolute error; events of the straight passes against the marker events "
             "(Zeni et al. 2008, `gait_events.md`), median / worst absolute error.",
             "",
-            "| quantity | " + " | ".join(rl) + " |",
-            "|---|" + "---|" * len(rl),
+            *_head(rl),
         ]
         for side in ("left", "right"):
             for seg in ("thigh", "shank"):
-                L.append(
-                    f"| {side} {seg} mm | "
-                    + " | ".join(f"{r[k]['lengths'][side][f'{seg}_err_mm']:+.0f}" for k in rl)
-                    + " |"
-                )
-        L.append("| stride length % | " + " | ".join(_cell(r[k]["stride_length_err_pct"]) for k in rl) + " |")
-        L.append("| step width mm | " + " | ".join(_cell(r[k]["step_width_err_mm"]) for k in rl) + " |")
+                cells = [f"{r[k]['lengths'][side][f'{seg}_err_mm']:+.0f}" for k in rl]
+                L.append(_row(f"{side} {seg} mm", cells))
+        L.append(_row("stride length %", [_cell(r[k]["stride_length_err_pct"]) for k in rl]))
+        L.append(_row("step width mm", [_cell(r[k]["step_width_err_mm"]) for k in rl]))
         for key in ("left_initial_contact", "left_toe_off", "right_initial_contact", "right_toe_off"):
-            cells = []
-            for k in rl:
-                e = r[k]["events_ms"][key]
-                cells.append(f"{e['median_abs_ms']:.1f} / {e['worst_abs_ms']:.1f}" if e.get("n") else "–")
-            L.append(f"| {key.replace('_', ' ')} vs markers, ms | " + " | ".join(cells) + " |")
+            cells = [_event_cell(r[k]["events_ms"][key]) for k in rl]
+            L.append(_row(f"{key.replace('_', ' ')} vs markers, ms", cells))
     return "\n".join(L) + "\n"
 
 
