@@ -41,7 +41,11 @@ def foot_contacts(
     orientation. During flat-foot the foot does not move, so any such offset
     shifts all contact positions of a straight pass equally (for equal foot
     heading) and leaves stride length unchanged. Contacts farther than
-    ``max_gap_s`` from every period get NaN positions and ``period = -1``.
+    ``max_gap_s`` from every period get NaN positions and ``period = -1``, and so
+    does a contact whose nearest period is nearer to another contact: a foot stands
+    once per contact, and a contact just before the recording ends, whose stance was
+    not recorded, would otherwise take the previous contact's period and make a
+    stride of length zero.
 
     Args:
         traj: Foot trajectory with its stationary periods.
@@ -57,19 +61,35 @@ def foot_contacts(
     R = quat_to_matrix(traj.quat_wxyz)
     pos = np.full((len(ic_s), 3), np.nan)
     rot = np.full((len(ic_s), 3, 3), np.nan)
-    idx = np.full(len(ic_s), -1, dtype=int)
-    for i, t in enumerate(ic_s):
-        if iv.shape[0] == 0:
-            break
-        gap = np.maximum(iv[:, 0] - t, 0.0) + np.maximum(t - iv[:, 1], 0.0)
-        j = int(np.argmin(gap))
-        if gap[j] > max_gap_s:
+    idx = _nearest_periods(iv, np.asarray(ic_s, dtype=float), max_gap_s)
+    for i, j in enumerate(idx):
+        if j < 0:
             continue
         a, b = traj.stationary.runs[j]
         pos[i] = pts[a:b].mean(axis=0)
         rot[i] = R[(a + b - 1) // 2]
-        idx[i] = j
     return Contacts(time_s=np.asarray(ic_s, dtype=float), position_m=pos, R_earth_sensor=rot, period=idx)
+
+
+def _nearest_periods(intervals_s: FloatArray, ic_s: FloatArray, max_gap_s: float) -> np.ndarray:
+    """(K,) index of each contact's stationary period (-1: none within ``max_gap_s``, or taken).
+
+    ``intervals_s`` (P, 2) are the periods' start and end times, s. The gap is the time
+    distance from the contact to the interval (zero inside). A period that is the nearest
+    of several contacts stays with the contact it is nearest to; the others get -1.
+    """
+    idx = np.full(len(ic_s), -1, dtype=int)
+    if intervals_s.shape[0] == 0:
+        return idx
+    gap = np.maximum(intervals_s[None, :, 0] - ic_s[:, None], 0.0)
+    gap += np.maximum(ic_s[:, None] - intervals_s[None, :, 1], 0.0)
+    nearest = np.argmin(gap, axis=1)
+    best = gap[np.arange(len(ic_s)), nearest]
+    for i, j in enumerate(nearest):
+        rivals = best[nearest == j]
+        if best[i] <= max_gap_s and best[i] == rivals.min():
+            idx[i] = j
+    return idx
 
 
 def heading_change_rad(R_a: FloatArray, R_b: FloatArray) -> float:

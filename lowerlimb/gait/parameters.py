@@ -55,6 +55,7 @@ from lowerlimb.gait.trajectory import FootTrajectory
 __all__ = ["FootAnchor", "GaitParameters", "Stride", "compute_gait_parameters"]
 
 _SIDES = ("left", "right")
+_MIN_PAIR_SD_RAD = np.deg2rad(0.1)  # floor of the pairs' robust SD (exact synthetic tracks)
 
 
 @dataclass(frozen=True)
@@ -272,6 +273,25 @@ def _yaw_at(samples: FloatArray, t: FloatArray, window_s: float) -> FloatArray:
     return np.asarray(np.arctan2(S, C))
 
 
+def _down_weighted(samples: FloatArray, p: GaitParams) -> FloatArray:
+    """``samples`` (M, 3) with the weights of outlying heading differences cut (Huber).
+
+    Each pair's difference (rad) is compared with the kernel mean (:func:`_yaw_at`,
+    ``pair_yaw_window_s``) at its time; beyond :attr:`GaitParams.pair_yaw_huber` robust SDs
+    of those residuals its weight falls as 1/|residual|. Two passes.
+    """
+    k = p.pair_yaw_huber
+    if k is None or samples.shape[0] < 3:
+        return samples
+    out = samples.copy()
+    for _ in range(2):
+        mean = _yaw_at(out, out[:, 0], p.pair_yaw_window_s)
+        r = np.abs(np.angle(np.exp(1j * (samples[:, 1] - mean))))
+        sd = max(1.4826 * float(np.median(r)), _MIN_PAIR_SD_RAD)
+        out[:, 2] = samples[:, 2] * np.minimum(1.0, k * sd / np.maximum(r, 1e-12))
+    return out
+
+
 def _rotate_track(
     time_s: FloatArray,
     pos: FloatArray,
@@ -358,6 +378,7 @@ def compute_gait_parameters(
     drift: TrackDrift | None = None
     if "left" in contacts and "right" in contacts and events.left and events.right and left and right:
         samples = _pair_yaw_samples(contacts["left"], events.left, contacts["right"], events.right, p)
+        samples = _down_weighted(samples, p)
         if samples.shape[0]:
             yaw = float(_yaw_at(samples, np.zeros(1), np.inf)[0])
         if np.isfinite(yaw) and anchor is not None:
