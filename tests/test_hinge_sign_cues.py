@@ -94,3 +94,24 @@ def test_a_non_positive_sign_window_is_refused():
 
     with pytest.raises(InputError, match="sign_raw_window_s"):
         CalibrationOptions(sign_raw_window_s=0.0)
+
+
+@pytest.mark.parametrize("start_s", [0.0, 0.3, 0.55, 0.8])
+def test_a_start_in_mid_motion_does_not_flip_the_flexion_sign(start_s):
+    """A trial cut from a longer recording starts at any pose: with the first sample as the
+    reference, a start at 1 rad of flexion made flexion look negative and flipped a walking
+    knee's axis (two legs then refused as mirrored). With no still start the reference is
+    the angle's mean, about which a knee still swings to the flexed side."""
+    from lowerlimb.calibration.hinge_axis import flexion_sign_margin
+
+    rate = 100.0
+    t = np.arange(start_s, start_s + 8.0, 1.0 / rate)
+    # a gait-like knee: 1.1 rad in swing for 40 % of each 1.1 s cycle, near 0.2 rad in stance
+    phase = (t / 1.1) % 1.0
+    flexion = 0.2 + 0.9 * np.where(phase > 0.6, np.sin(np.pi * (phase - 0.6) / 0.4) ** 2, 0.0)
+    wc = np.zeros((t.size, 3))
+    wc[:, 0] = -np.gradient(flexion, t)
+    wp = np.zeros_like(wc)
+    j = np.array([1.0, 0.0, 0.0])
+    assert flexion_sign_margin(j, j, wp, wc, rate, 0) > 0
+    assert flexion_sign_margin(-j, -j, wp, wc, rate, 0) < 0

@@ -44,6 +44,7 @@ from ..conventions import SIDES, FloatArray
 from ..errors import InputError
 from ..gait import GaitParams
 from ..io.bilateral_trial import BilateralTrial, with_file_names
+from ..io.trial import StandingStartWarning
 from ..orientation.magnetic import check_magnetic_field
 from ..pipeline import MAG_FILTERS, MagneticDisturbanceWarning, TrialResult, build_model, process_trial
 from ..segments.tracking import track_segments
@@ -279,6 +280,23 @@ def _process_leg(
         raise InputError(f"{side} leg (pelvis and {side}_*): {e}") from None
 
 
+def _leg_warnings(
+    caught: dict[str, list[warnings.WarningMessage]],
+) -> list[tuple[str, type[Warning]]]:
+    """Each leg's warnings once, naming the leg; one both legs raised alike, once without a side."""
+    both = {(str(w.message), w.category) for w in caught["left"]}
+    both &= {(str(w.message), w.category) for w in caught["right"]}
+    out: list[tuple[str, type[Warning]]] = []
+    for side in SIDES:
+        for w in caught[side]:
+            key = (str(w.message), w.category)
+            if key not in both:
+                out.append((f"{side} leg: {w.message}", w.category))
+            elif side == SIDES[0]:
+                out.append(key)
+    return out
+
+
 def _one_pelvis(
     legs: dict[str, TrialResult], *, height_m: float, mass_kg: float, params: PelvisParams | None
 ) -> tuple[dict[str, TrialResult], SharedPelvis]:
@@ -384,9 +402,8 @@ def process_bilateral_trial(
     )
     if legs["left"].used_mag and not legs["right"].used_mag:  # the right field was rejected
         legs["left"], caught["left"] = _process_leg(trial, "left", use_mag=False, **kwargs)
-    for side in SIDES:  # each leg's warnings once, naming the leg
-        for w in caught[side]:
-            warnings.warn(f"{side} leg: {w.message}", w.category, stacklevel=2)
+    for message, category in _leg_warnings(caught):
+        warnings.warn(message, category, stacklevel=2)
     timings: dict[str, float] = {}
     for side, r in legs.items():
         for k, v in r.timings_s.items():
@@ -396,7 +413,9 @@ def process_bilateral_trial(
     pelvis = None
     if one_pelvis:
         t0 = time.perf_counter()
-        legs, pelvis = _one_pelvis(legs, height_m=height_m, mass_kg=mass_kg, params=pelvis_params)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", StandingStartWarning)  # said once above
+            legs, pelvis = _one_pelvis(legs, height_m=height_m, mass_kg=mass_kg, params=pelvis_params)
         timings["one pelvis"] = time.perf_counter() - t0
     hips = check_hips(
         legs["left"].calibration,

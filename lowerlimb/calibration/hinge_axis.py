@@ -319,9 +319,16 @@ def _flexion_tests(
     n_still: int,
     drift_hz: float,
 ) -> list[FloatArray]:
-    """Flexion from the standing start and, on long enough trials, its drift-free part (rad)."""
+    """Flexion from the standing start and, on long enough trials, its drift-free part (rad).
+
+    Without a standing start (``n_still`` < 1) the first sample is any pose of the
+    motion (mid-swing, a knee flexed 60°), and flexion from it swings to the wrong side
+    as often as not: a walk cut from a longer recording had its right knee axis flipped
+    and was refused as mirrored knees. Flexion is then taken from its mean instead,
+    about which a knee still swings mostly to the flexed side.
+    """
     q = hinge_angle(axis_parent, axis_child, gyr_parent, gyr_child, rate_hz)
-    f = -(q - float(np.mean(q[: max(n_still, 1)])))
+    f = -(q - float(np.mean(q[:n_still] if n_still >= 1 else q)))
     tests = [f]
     if f.shape[0] - n_still > rate_hz / drift_hz:
         moving = f[n_still:]

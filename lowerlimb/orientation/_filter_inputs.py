@@ -16,11 +16,12 @@ from lowerlimb.orientation.initialisation import InitialState
 
 def loop_inputs(
     gyr: FloatArray, acc: FloatArray, mag: FloatArray | None, rate_hz: float, initial: InitialState
-) -> tuple[FloatArray, FloatArray, FloatArray, bool, float, FloatArray]:
-    """``(gyr, acc, mag, use_mag, dt, q0)``: the first six arguments of every filter loop.
+) -> tuple[FloatArray, FloatArray, FloatArray, bool, float, FloatArray, bool]:
+    """``(gyr, acc, mag, use_mag, dt, q0, lowpass_up)``: the first seven arguments of every filter loop.
 
     The gyro bias of ``initial`` is subtracted; ``q0`` is its orientation
-    before the first sample (sensor -> ENU).
+    before the first sample (sensor -> ENU); ``lowpass_up`` starts an earth-frame
+    accelerometer low-pass at gravity (``initial.lowpass_from_gravity``).
     """
     return (
         np.ascontiguousarray(np.asarray(gyr, dtype=np.float64) - initial.gyr_bias_rad_s),
@@ -29,6 +30,7 @@ def loop_inputs(
         mag is not None,
         1.0 / rate_hz,
         np.asarray(initial.quat_wxyz, dtype=np.float64),
+        bool(initial.lowpass_from_gravity),
     )
 
 

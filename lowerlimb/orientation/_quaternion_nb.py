@@ -15,6 +15,8 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from lowerlimb.conventions import GRAVITY_MPS2
+
 Quat = tuple[float, float, float, float]
 Vec = tuple[float, float, float]
 
@@ -79,18 +81,22 @@ def rotate_to_sensor(w: float, x: float, y: float, z: float, vx: float, vy: floa
 
 @njit(cache=True, inline="always")
 def earth_lowpass_start(
-    dt: float, tau: float, w: float, x: float, y: float, z: float, acc: NDArray[np.float64]
+    dt: float, tau: float, w: float, x: float, y: float, z: float, acc: NDArray[np.float64], up: bool
 ) -> tuple[float, float, float, float]:
     """Gain ``k = dt / (tau + dt)`` and the initial state of :func:`earth_lowpass`.
 
     The state starts at the first accelerometer sample rotated into the earth
-    frame by the initial attitude ``q``; (0, 0, 0) for an empty record.
+    frame by the initial attitude ``q``; (0, 0, 0) for an empty record. With ``up``
+    it starts at gravity, (0, 0, g): the attitude is known but the first sample
+    moves (a warm start, :class:`~lowerlimb.orientation.initialisation.InitialState`).
     """
     k = dt / (tau + dt)
     lx = 0.0
     ly = 0.0
     lz = 0.0
-    if acc.shape[0] > 0:
+    if up:
+        lz = GRAVITY_MPS2
+    elif acc.shape[0] > 0:
         lx, ly, lz = rotate_to_earth(w, x, y, z, acc[0, 0], acc[0, 1], acc[0, 2])
     return k, lx, ly, lz
 

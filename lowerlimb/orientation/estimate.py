@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -19,7 +20,7 @@ from lowerlimb.conventions import MAX_GYRO_RAD_S, MIN_MEDIAN_ACC_MPS2, FloatArra
 from lowerlimb.errors import InputError, NonFiniteValueError, ShapeError, UnitError
 from lowerlimb.methods import ORIENTATION_FILTERS
 from lowerlimb.orientation.ftecf import FtecfParams, ftecf_filter
-from lowerlimb.orientation.initialisation import initialise
+from lowerlimb.orientation.initialisation import InitialState, RestParams, initialise
 from lowerlimb.orientation.madgwick import MadgwickParams, madgwick_filter
 from lowerlimb.orientation.mahony import MahonyParams, mahony_filter
 from lowerlimb.orientation.quest_kf import QuestKfParams, quest_kf_filter
@@ -160,6 +161,45 @@ def estimate_orientation(
         g[1:] = 0.5 * (g[1:] + g[:-1])
     initial = initialise(g, a, m, rate, estimate_bias=bool(remove_bias))
     filt = FILTERS[method][0]
+    if initial.rest_samples == 0:
+        initial = _warm_start(filt, g, a, m, rate, initial, params, RestParams().warm_start_s)
     # Every filter moves its estimate by a small rotation per sample and never
     # flips its sign, so the output is continuous as it is (tested).
     return filt(g, a, m, rate_hz=rate, initial=initial, params=params)
+
+
+def _warm_start(
+    filt: Callable[..., FloatArray],
+    g: FloatArray,
+    a: FloatArray,
+    m: FloatArray | None,
+    rate: float,
+    initial: InitialState,
+    params: Any,
+    warm_s: float,
+) -> InitialState:
+    """``initial`` with its attitude converged by a run there and back over the first ``warm_s`` s.
+
+    The filter runs forward over the first ``warm_s`` seconds, then backward in time
+    (gyro negated) to the first sample.
+
+    Without a still start the first readings include the motion's acceleration; the
+    filter's gravity (and magnetic) correction pulls a rough start to the truth within
+    seconds, and running it there and back gives that converged attitude at sample 0.
+    """
+    n = min(g.shape[0], int(round(warm_s * rate)))
+    if n < 2:
+        return initial
+    fwd = filt(g[:n], a[:n], None if m is None else m[:n], rate_hz=rate, initial=initial, params=params)
+    back_start = replace(initial, quat_wxyz=fwd[-1], lowpass_from_gravity=True)
+    gb, ab = -g[:n][::-1], a[:n][::-1]
+    mb = None if m is None else m[:n][::-1]
+    back = filt(
+        np.ascontiguousarray(gb),
+        np.ascontiguousarray(ab),
+        None if mb is None else np.ascontiguousarray(mb),
+        rate_hz=rate,
+        initial=back_start,
+        params=params,
+    )
+    return replace(initial, quat_wxyz=back[-1], lowpass_from_gravity=True)

@@ -123,6 +123,7 @@ def _ftecf_loop(
     use_mag: bool,
     dt: float,
     q0: FloatArray,
+    lowpass_up: bool,
     g_ref: float,
     mag_norm_ref: float,
     mag_dip_ref: float,
@@ -142,7 +143,7 @@ def _ftecf_loop(
     out = np.empty((n, 4))
     w, x, y, z = q0[0], q0[1], q0[2], q0[3]
     b, r, wts = reference_pairs(use_mag, mag_dip_ref, mag_weight)
-    k_lp, lx, ly, lz = earth_lowpass_start(dt, acc_tau, w, x, y, z, acc)
+    k_lp, lx, ly, lz = earth_lowpass_start(dt, acc_tau, w, x, y, z, acc, lowpass_up)
     # the accelerometer samples ESOQ-2 sees: low-passed in the earth frame, or as measured
     acc_in = acc.copy() if acc_tau > 0.0 else acc
     for i in range(n):

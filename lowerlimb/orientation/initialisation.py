@@ -45,6 +45,13 @@ class RestParams:
             and would bias the mean gyro rate.
         attitude_s: Without a rest, the initial attitude comes from the mean
             of the first ``attitude_s`` seconds.
+        warm_start_s: Without a rest, that rough attitude (a foot mid-swing reads
+            tens of m/s² besides gravity) is refined by running the filter over the
+            first ``warm_start_s`` seconds and back to the first sample
+            (:func:`lowerlimb.orientation.estimate.estimate_orientation`); ``0``: not.
+            On a seven-IMU walk cut from a longer recording the right foot's strides
+            came out 0.47, 0.61, 0.81, 0.99 m long (truth 1.25 m) while its filter
+            converged from the swing's attitude.
     """
 
     window_s: float = 0.5
@@ -55,6 +62,7 @@ class RestParams:
     min_rest_s: float = 0.5
     trim_s: float = 0.25
     attitude_s: float = 0.05
+    warm_start_s: float = 10.0
 
 
 @dataclass(frozen=True)
@@ -74,6 +82,11 @@ class InitialState:
             northern hemisphere); NaN without magnetometer.
         acc_norm_mps2: Norm of the mean specific force at the start, m/s²
             (the local gravity as this accelerometer measures it).
+        lowpass_from_gravity: Start the filters' earth-frame accelerometer low-pass
+            at gravity instead of at the first sample rotated by ``quat_wxyz``: the
+            attitude is known but the first samples move (a warm start; from a
+            foot mid-swing, the first sample's 20 m/s² of motion held in the
+            low-pass turned a correct start 40° off within 3 s).
     """
 
     quat_wxyz: FloatArray
@@ -83,6 +96,7 @@ class InitialState:
     mag_norm: float = float("nan")
     mag_dip_rad: float = float("nan")
     acc_norm_mps2: float = GRAVITY_MPS2
+    lowpass_from_gravity: bool = False
 
     @classmethod
     def at(cls, quat_wxyz: ArrayLike) -> InitialState:

@@ -125,13 +125,14 @@ def _madgwick_loop(
     use_mag: bool,
     dt: float,
     q0: FloatArray,
+    lowpass_up: bool,
     beta: float,
     acc_tau: float,
 ) -> FloatArray:
     n = gyr.shape[0]
     out = np.empty((n, 4))
     w, x, y, z = q0[0], q0[1], q0[2], q0[3]
-    k_lp, lx, ly, lz = earth_lowpass_start(dt, acc_tau, w, x, y, z, acc)
+    k_lp, lx, ly, lz = earth_lowpass_start(dt, acc_tau, w, x, y, z, acc, lowpass_up)
     for i in range(n):
         # eq. 43, integrated exactly over the sample
         pw, px, py, pz = qintegrate(w, x, y, z, gyr[i, 0], gyr[i, 1], gyr[i, 2], dt)

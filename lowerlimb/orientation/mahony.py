@@ -104,6 +104,7 @@ def _mahony_loop(
     use_mag: bool,
     dt: float,
     q0: FloatArray,
+    lowpass_up: bool,
     mag_norm_ref: float,
     mag_dip_ref: float,
     kp: float,
@@ -120,7 +121,7 @@ def _mahony_loop(
     ix = 0.0
     iy = 0.0
     iz = 0.0
-    k_lp, lx, ly, lz = earth_lowpass_start(dt, acc_tau, w, x, y, z, acc)
+    k_lp, lx, ly, lz = earth_lowpass_start(dt, acc_tau, w, x, y, z, acc, lowpass_up)
     for i in range(n):
         # eq. 49-50, gyro part: integrate the rate corrected by the integral (bias) term
         w, x, y, z = qintegrate(

@@ -85,6 +85,7 @@ def _quest_kf_loop(
     use_mag: bool,
     dt: float,
     q0: FloatArray,
+    lowpass_up: bool,
     g_ref: float,
     mag_norm_ref: float,
     mag_dip_ref: float,
