@@ -91,3 +91,35 @@ def test_swapped_looking_hips_are_kept_when_the_pelvis_turn_confirms_the_sides(m
     monkeypatch.setattr(process, "_pelvis_turn", lambda leg: -0.3 if leg.trial.side == "left" else 0.3)
     with pytest.warns(SideEvidenceWarning, match="pelvis turns with each leg"):
         process.process_bilateral_trial(swapped)
+
+
+def test_the_real_walk_cut_mid_stride_calibrates_without_step_width():
+    """Cut 0.3 s after walking begins (no standing start): both legs calibrate with one
+    standing-start warning, the strides keep their lengths and the step width is null, not
+    the 94-145 mm error an anchor at the walk's standing end gave (benchmarks/cut_start.py)."""
+    import warnings
+
+    import numpy as np
+
+    from lowerlimb.bilateral import UnanchoredFeetWarning, process_bilateral_trial
+    from lowerlimb.io.bilateral_trial import BilateralTrial
+    from lowerlimb.io.trial import StandingStartWarning
+
+    trial, _ = _real_walk_and_swapped()
+    k0 = 1150  # walking begins at sample 1120
+    cut = BilateralTrial(
+        trial.time_s[k0:] - trial.time_s[k0],
+        {s: a[k0:] for s, a in trial.acc.items()},
+        {s: g[k0:] for s, g in trial.gyr.items()},
+    )
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = process_bilateral_trial(cut)
+    assert sum(issubclass(w.category, StandingStartWarning) for w in caught) == 1
+    assert sum(issubclass(w.category, UnanchoredFeetWarning) for w in caught) == 1
+    strides = res.gait.parameters.strides
+    lengths = np.array([s.stride_length_m for s in strides if not s.turning])
+    lengths = lengths[np.isfinite(lengths)]
+    # Vicon: 1.3-1.5 m on the straight passes; the stopping step at the end is short
+    assert np.count_nonzero((lengths > 1.2) & (lengths < 1.8)) >= 5
+    assert all(np.isnan(s.step_width_m) for s in strides)

@@ -207,33 +207,27 @@ def test_feet_on_a_bending_walk_are_not_turned_against_each_other(radius_m):
     assert np.median(np.abs(overlap[:, 1])) == pytest.approx(abs(step), rel=0.05)  # half a stride
 
 
-def test_one_bad_stride_pair_does_not_turn_the_right_track():
-    """Heading differences of stride pairs scatter by ~0.3° about a slow drift; one pair 44° off
-    (a side-step, or a stride of length zero at the recording's end) pulled the kernel mean
-    of a 60 s walk's last 10 s by 3° and swung its last step widths by decimetres."""
-    from lowerlimb.gait.parameters import _down_weighted, _yaw_at
+def test_walking_direction_near_an_anchor_after_a_turn():
+    """An anchor where the walk ends takes the last stride's direction: the first one's, as
+    before, points the other way after a turn and mirrored the feet's offset (the real walk
+    cut mid-stride: step width 250-324 mm off)."""
+    from lowerlimb.conventions import rot_z
+    from lowerlimb.gait import walking_direction
+    from lowerlimb.gait.contacts import Contacts
 
-    rng = np.random.default_rng(3)
-    t = np.arange(2.0, 60.0, 1.1)
-    truth = np.deg2rad(-1.0 + 0.5 * t / 60.0)
-    noisy = truth + np.deg2rad(0.3) * rng.standard_normal(t.size)
-    samples = np.column_stack([t, noisy, np.full(t.size, 1.4)])
-    samples[-1, 1] = np.deg2rad(-44.0)
-    p = GaitParams()
-    robust = _down_weighted(samples, p)
-    err = np.rad2deg(np.abs(_yaw_at(robust, t, p.pair_yaw_window_s) - truth))
-    assert err.max() < 0.4
-    plain = np.rad2deg(np.abs(_yaw_at(samples, t, p.pair_yaw_window_s) - truth))
-    assert plain.max() > 2.0
-    assert robust[-1, 2] < 0.1 * samples[-1, 2]
-    # clean pairs keep their weight, and None switches the cut off
-    assert np.median(robust[:-1, 2]) == pytest.approx(1.4)
-    assert _down_weighted(samples, GaitParams(pair_yaw_huber=None)) is samples
-
-
-@pytest.mark.parametrize("bad", [0.0, -1.0, float("nan"), float("inf")])
-def test_bad_pair_yaw_huber_is_refused(bad):
-    from lowerlimb.errors import InputError
-
-    with pytest.raises(InputError, match="pair_yaw_huber"):
-        GaitParams(pair_yaw_huber=bad)
+    x = np.array([0.0, 1.3, 2.6, 3.9, np.nan, 3.9, 2.6, 1.3])  # out, a turn (no position), back
+    pos = np.column_stack([x, np.zeros_like(x), np.zeros_like(x)])
+    c = Contacts(
+        time_s=np.arange(x.size) * 1.1,
+        position_m=pos,
+        R_earth_sensor=np.stack([rot_z(0.0)] * x.size),
+        period=np.arange(x.size),
+    )
+    assert walking_direction(c, -0.5) == pytest.approx([1.0, 0.0])  # a standing start: the first stride
+    assert walking_direction(c, 3.0) == pytest.approx([1.0, 0.0])  # the stride around it
+    assert walking_direction(c, 5.2) == pytest.approx([-1.0, 0.0])  # nearer the first stride back
+    assert walking_direction(c, 20.0) == pytest.approx([-1.0, 0.0])  # after the walk: the last stride
+    none = Contacts(
+        time_s=np.zeros(1), position_m=np.zeros((1, 3)), R_earth_sensor=np.eye(3)[None], period=np.zeros(1)
+    )
+    assert walking_direction(none, 0.0) is None

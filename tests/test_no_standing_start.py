@@ -11,7 +11,7 @@ import warnings
 import numpy as np
 import pytest
 
-from lowerlimb.bilateral import process_bilateral_trial
+from lowerlimb.bilateral import UnanchoredFeetWarning, process_bilateral_trial
 from lowerlimb.conventions import quat_to_matrix
 from lowerlimb.io.bilateral_trial import BilateralTrial
 from lowerlimb.io.trial import StandingStartWarning
@@ -58,6 +58,9 @@ def test_two_legs_calibrate_with_one_warning(cut):
         res = process_bilateral_trial(trial)
     standing = [w for w in caught if issubclass(w.category, StandingStartWarning)]
     assert len(standing) == 1 and "first second" in str(standing[0].message)
+    # the feet never stand together before the first step: no step length or width, said once
+    assert sum(issubclass(w.category, UnanchoredFeetWarning) for w in caught) == 1
+    assert all(np.isnan(s.step_width_m) for s in res.gait.parameters.strides)
     for side in ("left", "right"):
         est = np.asarray(res.calibration_dict()["legs"][side]["joints"]["knee"]["axis_in_parent_sensor"])
         tru = np.asarray(sim.truth["legs"][side]["joints"]["knee"]["axis_in_parent_sensor"])

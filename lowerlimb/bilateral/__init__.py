@@ -7,7 +7,13 @@
 :mod:`lowerlimb.outputs_bilateral`.
 """
 
-from lowerlimb.bilateral.gait import BilateralGait, NoGaitWarning, analyse_gait, chain_anchor
+from lowerlimb.bilateral.gait import (
+    BilateralGait,
+    NoGaitWarning,
+    UnanchoredFeetWarning,
+    analyse_gait,
+    chain_anchor,
+)
 from lowerlimb.bilateral.hips import HipCheck, HipParams, HipSpacingWarning, check_hips
 from lowerlimb.bilateral.process import BilateralResult, BilateralSideError, process_bilateral_trial
 
@@ -18,6 +24,7 @@ __all__ = [
     "HipCheck",
     "HipParams",
     "HipSpacingWarning",
+    "UnanchoredFeetWarning",
     "NoGaitWarning",
     "analyse_gait",
     "chain_anchor",

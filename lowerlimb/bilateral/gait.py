@@ -44,15 +44,20 @@ from ..gait import (
     detect_gait_events,
     foot_contacts,
     integrate_foot,
+    walking_direction,
 )
 from ..pipeline import TrialResult
 from .chain_steps import chain_steps
 
-__all__ = ["BilateralGait", "NoGaitWarning", "analyse_gait", "chain_anchor"]
+__all__ = ["BilateralGait", "UnanchoredFeetWarning", "NoGaitWarning", "analyse_gait", "chain_anchor"]
 
 
 class NoGaitWarning(UserWarning):
     """The trial has no walking: ``events.csv`` is empty and ``gait.json`` holds nulls."""
+
+
+class UnanchoredFeetWarning(UserWarning):
+    """The feet never stand still together before the first step: step length and width are ``null``."""
 
 
 @dataclass(frozen=True)
@@ -132,8 +137,12 @@ def chain_anchor(
         params: gait thresholds (``max_stride_time_s``).
 
     Returns:
-        The anchor, or ``None`` when the feet never rest together or the left foot has
-        no stride after the chosen instant.
+        The anchor, or ``None`` when the feet never rest together before the first step
+        or the left foot has no stride. Only a standing start anchors: anchored where a
+        walk ends (two passes and a turn later), the real walk of ``gait/`` cut mid-stride
+        had its step width 94-145 mm off Vicon's (65 mm uncut), against 17 mm from its
+        standing start (``benchmarks/results/cut_start.md``); during walking the chain's
+        right-minus-left vector is decimetres off (``lowerlimb.gait.drift``).
     """
     if events.left is None or events.right is None:
         return None
@@ -142,18 +151,15 @@ def chain_anchor(
     rate = trajectories["left"].rate_hz
     cand = np.flatnonzero(both[: max(int(first_ic * rate), 0)])
     if cand.size == 0:
-        cand = np.flatnonzero(both)
-    if cand.size == 0:
         return None
     k = int(cand[-1])
-    standing = k < first_ic * rate  # both feet down before the first step
     R_pelvis = quat_to_matrix(legs["left"].motion.sensor_quat_wxyz["pelvis"][k])
     down = R_pelvis.T @ np.array([0.0, 0.0, -1.0])  # the vertical in the pelvis sensor frame
     ankle = {}
     for s, r in legs.items():
         leg = r.positions_m[k, 3:6]
         tilt = np.degrees(np.arccos(np.clip(leg @ down / max(float(np.linalg.norm(leg)), 1e-9), -1.0, 1.0)))
-        if standing and tilt > params.max_standing_leg_tilt_deg:
+        if tilt > params.max_standing_leg_tilt_deg:
             # a standing leg this far from vertical is a calibration error (a poorly determined
             # hip or knee centre turns the thigh or shank in its sensor), not a posture: take
             # the leg as vertical, so the ankles are offset like the hips
@@ -163,14 +169,9 @@ def chain_anchor(
     cl = foot_contacts(
         trajectories["left"], events.left.initial_contact_s, np.zeros(3), 0.5 * params.max_stride_time_s
     )
-    after = np.flatnonzero(cl.time_s >= k / rate)
-    j = int(after[0]) if after.size and after[0] + 1 < len(cl.time_s) else 0
-    if len(cl.time_s) < 2:
+    u = walking_direction(cl, k / rate)
+    if u is None:
         return None
-    u = cl.position_m[j + 1, :2] - cl.position_m[j, :2]
-    if not np.all(np.isfinite(u)) or np.linalg.norm(u) == 0:
-        return None
-    u = u / np.linalg.norm(u)
     return FootAnchor(time_s=k / rate, forward_m=float(d[:2] @ u), left_m=float(-u[1] * d[0] + u[0] * d[1]))
 
 
@@ -226,6 +227,14 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
         trajs[s] = replace(tr, position_m=tr.point_m(offsets[s]))
     p_ankle = replace(p, sensor_to_ankle_m=(0.0, 0.0, 0.0))  # the trajectories are the ankle centres
     anchor = chain_anchor(legs, events, trajs, p_ankle)
+    if anchor is None:
+        warnings.warn(
+            "step length and step width are null: the two feet never stand still together before "
+            "the first step, so the calibrated chain cannot place one against the other; start the "
+            "recording standing still",
+            UnanchoredFeetWarning,
+            stacklevel=2,
+        )
     chain = chain_steps(legs, events, p_ankle)
     parameters = compute_gait_parameters(
         events, trajs["left"], trajs["right"], anchor=anchor, chain=chain, params=p_ankle

@@ -6,7 +6,7 @@ zero-velocity updates) → :func:`compute_gait_parameters` → :func:`write_even
 Every threshold is in :class:`GaitParams`.
 """
 
-from lowerlimb.gait.contacts import Contacts, foot_contacts, heading_change_rad
+from lowerlimb.gait.contacts import Contacts, foot_contacts, heading_change_rad, walking_direction
 from lowerlimb.gait.errors import GaitSignalError, NoGaitCyclesError
 from lowerlimb.gait.events import GaitEvents, SideEvents, detect_gait_events, detect_side_events
 from lowerlimb.gait.parameters import FootAnchor, GaitParameters, Stride, compute_gait_parameters
@@ -44,6 +44,7 @@ __all__ = [
     "heading_change_rad",
     "integrate_foot",
     "sagittal_rate",
+    "walking_direction",
     "write_events_csv",
     "write_stationary_csv",
     "STATIONARY_COLUMNS",

@@ -9,7 +9,7 @@ import numpy as np
 from lowerlimb.conventions import FloatArray, quat_to_matrix
 from lowerlimb.gait.trajectory import FootTrajectory
 
-__all__ = ["Contacts", "foot_contacts", "heading_change_rad"]
+__all__ = ["Contacts", "foot_contacts", "heading_change_rad", "walking_direction"]
 
 
 @dataclass(frozen=True)
@@ -90,6 +90,27 @@ def _nearest_periods(intervals_s: FloatArray, ic_s: FloatArray, max_gap_s: float
         if best[i] <= max_gap_s and best[i] == rivals.min():
             idx[i] = j
     return idx
+
+
+def walking_direction(contacts: Contacts, time_s: float) -> FloatArray | None:
+    """(2,) unit horizontal direction of the foot's stride nearest in time to ``time_s`` (s).
+
+    Among the strides (two consecutive contacts with positions, apart), the one whose time
+    interval contains ``time_s`` or lies nearest to it (the earlier on a tie): the first
+    stride for a standing start, the last for an anchor where the walk ends (the first
+    stride's direction, used before, points the other way after a turn). ``None`` without
+    any such stride.
+    """
+    p = contacts.position_m[:, :2]
+    d = p[1:] - p[:-1]
+    length = np.linalg.norm(d, axis=1)
+    ok = np.flatnonzero(np.isfinite(length) & (length > 0.0))
+    if ok.size == 0:
+        return None
+    t = contacts.time_s
+    gap = np.maximum(t[ok] - time_s, 0.0) + np.maximum(time_s - t[ok + 1], 0.0)
+    j = int(ok[np.argmin(gap)])
+    return np.asarray(d[j] / length[j], dtype=float)
 
 
 def heading_change_rad(R_a: FloatArray, R_b: FloatArray) -> float:

@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 
 from lowerlimb.conventions import FloatArray, rot_z
-from lowerlimb.gait.contacts import Contacts, foot_contacts, heading_change_rad
+from lowerlimb.gait.contacts import Contacts, foot_contacts, heading_change_rad, walking_direction
 from lowerlimb.gait.drift import ChainSteps, TrackDrift, right_track_drift
 from lowerlimb.gait.events import GaitEvents, SideEvents
 from lowerlimb.gait.params import GaitParams
@@ -55,7 +55,6 @@ from lowerlimb.gait.trajectory import FootTrajectory
 __all__ = ["FootAnchor", "GaitParameters", "Stride", "compute_gait_parameters"]
 
 _SIDES = ("left", "right")
-_MIN_PAIR_SD_RAD = np.deg2rad(0.1)  # floor of the pairs' robust SD (exact synthetic tracks)
 
 
 @dataclass(frozen=True)
@@ -273,25 +272,6 @@ def _yaw_at(samples: FloatArray, t: FloatArray, window_s: float) -> FloatArray:
     return np.asarray(np.arctan2(S, C))
 
 
-def _down_weighted(samples: FloatArray, p: GaitParams) -> FloatArray:
-    """``samples`` (M, 3) with the weights of outlying heading differences cut (Huber).
-
-    Each pair's difference (rad) is compared with the kernel mean (:func:`_yaw_at`,
-    ``pair_yaw_window_s``) at its time; beyond :attr:`GaitParams.pair_yaw_huber` robust SDs
-    of those residuals its weight falls as 1/|residual|. Two passes.
-    """
-    k = p.pair_yaw_huber
-    if k is None or samples.shape[0] < 3:
-        return samples
-    out = samples.copy()
-    for _ in range(2):
-        mean = _yaw_at(out, out[:, 0], p.pair_yaw_window_s)
-        r = np.abs(np.angle(np.exp(1j * (samples[:, 1] - mean))))
-        sd = max(1.4826 * float(np.median(r)), _MIN_PAIR_SD_RAD)
-        out[:, 2] = samples[:, 2] * np.minimum(1.0, k * sd / np.maximum(r, 1e-12))
-    return out
-
-
 def _rotate_track(
     time_s: FloatArray,
     pos: FloatArray,
@@ -327,10 +307,9 @@ def _anchor_shift(
     """Horizontal translation putting the right foot (``pr_k`` at the anchor time) where the anchor says."""
     k = int(np.clip(round(anchor.time_s * trl.rate_hz), 0, trl.position_m.shape[0] - 1))
     pl = trl.point_m(offset)[k]
-    after = np.flatnonzero(cl.time_s >= anchor.time_s)
-    j = int(after[0]) if after.size and after[0] + 1 < len(cl.time_s) else 0
-    u = cl.position_m[j + 1, :2] - cl.position_m[j, :2]
-    u = u / np.linalg.norm(u)
+    u = walking_direction(cl, anchor.time_s)
+    if u is None:
+        return np.full(3, np.nan)
     left = np.array([-u[1], u[0]])
     target = pl[:2] + anchor.forward_m * u + anchor.left_m * left
     shift = np.zeros(3)
@@ -378,7 +357,6 @@ def compute_gait_parameters(
     drift: TrackDrift | None = None
     if "left" in contacts and "right" in contacts and events.left and events.right and left and right:
         samples = _pair_yaw_samples(contacts["left"], events.left, contacts["right"], events.right, p)
-        samples = _down_weighted(samples, p)
         if samples.shape[0]:
             yaw = float(_yaw_at(samples, np.zeros(1), np.inf)[0])
         if np.isfinite(yaw) and anchor is not None:

@@ -83,10 +83,6 @@ class GaitParams:
             interpolated at its own mid-time (``False``: the most overlapping left stride's,
             as before; on a bending walk that differs by half a stride's turn, always of one
             sign, and drifts the step width).
-        pair_yaw_huber: Huber threshold, in robust SDs, of a stride pair's heading difference
-            from the kernel mean around it; pairs beyond it are down-weighted (a side-step,
-            a stumble) so that one bad pair cannot turn a track (``None``: all pairs count
-            equally).
         max_standing_leg_tilt_deg: In the standing reference, a calibrated leg (hip to
             ankle) tilted further than this from the vertical is taken as a calibration error
             and replaced by the vertical when the feet are anchored to each other, deg
@@ -143,7 +139,6 @@ class GaitParams:
     turn_heading_deg: float = 20.0
     pair_yaw_window_s: float = 10.0
     pair_yaw_at_mid_time: bool = True
-    pair_yaw_huber: float | None = 2.5
     max_standing_leg_tilt_deg: float = 15.0
     chain_drift_knot_s: float | None = 30.0
     chain_drift_sd_m: float = 0.05
@@ -165,9 +160,6 @@ class GaitParams:
         for name in ("chain_drift_sd_m", "chain_drift_huber"):
             if not getattr(self, name) > 0:
                 raise InputError(f"{name} must be > 0, got {getattr(self, name)}")
-        huber = self.pair_yaw_huber
-        if huber is not None and not 0 < huber < np.inf:
-            raise InputError(f"pair_yaw_huber must be > 0 or None (no down-weighting), got {huber}")
         anchor_sd = self.chain_anchor_sd_m
         if anchor_sd is not None and not anchor_sd > 0:
             raise InputError(f"chain_anchor_sd_m must be > 0 m or None (pinned anchor), got {anchor_sd}")

@@ -172,7 +172,8 @@ class ImuTrial(TimeAxis):
         if np.max(np.abs(dt - med)) > TIME_JITTER_TOLERANCE * med:
             raise TimeAxisError(
                 f"time steps vary from {dt.min():.4g} s to {dt.max():.4g} s (median {med:.4g} s); "
-                f"resample the trial to a constant rate"
+                f'resample the trial to a constant rate (`lowerlimb import csv` with "resample_hz" in '
+                f"its mapping does it)"
             )
         for sensor in SENSORS:
             gmax = float(np.max(np.linalg.norm(self.gyr[sensor], axis=1)))
