@@ -190,9 +190,14 @@ def calibrate_joints(
 
 
 def estimate_orientations(
-    trial: ImuTrial, filter_name: str, *, use_mag: bool, reference: slice
+    trial: ImuTrial, filter_name: str, *, use_mag: bool, reference: slice | None
 ) -> Orientations:
     """Stage 2: one orientation filter per sensor; the magnetometer only when its field is usable.
+
+    ``reference`` are the standing samples on which the sensors' magnetic dips are compared
+    (``None``: the trial does not start standing, and no dip is compared: from samples in
+    motion the accelerometer's "up" is off, and a walk cut mid-stride was said to have a
+    disturbed field).
 
     Warns:
         MagneticDisturbanceWarning: the field looks disturbed; the filters run 6-axis.
@@ -329,7 +334,8 @@ def process_trial(
     clock.stop("joint calibration", "" if calibration is None else "reused, not estimated")
 
     clock.start()
-    orientations = estimate_orientations(trial, filter_name, use_mag=use_mag, reference=reference)
+    standing = reference if trial.standing_samples(1.0, still) else None
+    orientations = estimate_orientations(trial, filter_name, use_mag=use_mag, reference=standing)
     clock.stop("orientation filters")
 
     clock.start()

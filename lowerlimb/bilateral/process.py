@@ -152,7 +152,7 @@ def _use_mag(trial: BilateralTrial, filter_name: str, use_mag: bool) -> bool:
         leg = trial.leg(side)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            check = check_magnetic_field(leg, leg.reference_samples())
+            check = check_magnetic_field(leg, leg.reference_samples() if leg.has_standing_start() else None)
         if not check.usable:
             warnings.warn(
                 f"the magnetometer looks disturbed ({check.reason}, {side} leg); fusing gyro and "
