@@ -183,21 +183,28 @@ def calibrate_joints(
     return replace(
         previous,
         runtime_s=0.0,
-        gyro_bias={s: gyro_bias(trial.gyr[s], n_still, still.quiet) for s in SENSORS},
+        gyro_bias={s: gyro_bias(trial.gyr[s], n_still, still.quiet, still.end()) for s in SENSORS},
         still_s=n_still / trial.rate_hz,
         clock_offsets={},  # the earlier trial's clocks say nothing of this one's; not searched
     )
 
 
 def estimate_orientations(
-    trial: ImuTrial, filter_name: str, *, use_mag: bool, reference: slice | None
+    trial: ImuTrial,
+    filter_name: str,
+    *,
+    use_mag: bool,
+    reference: slice | None,
+    gyro_bias: dict[str, FloatArray] | None = None,
 ) -> Orientations:
     """Stage 2: one orientation filter per sensor; the magnetometer only when its field is usable.
 
     ``reference`` are the standing samples on which the sensors' magnetic dips are compared
     (``None``: the trial does not start standing, and no dip is compared: from samples in
     motion the accelerometer's "up" is off, and a walk cut mid-stride was said to have a
-    disturbed field).
+    disturbed field). ``gyro_bias`` (``{sensor: (3,)}`` rad/s), when given, is subtracted
+    and the filters estimate none of their own: a trial that ends still but does not start
+    still (the filters find a bias only in a still start).
 
     Warns:
         MagneticDisturbanceWarning: the field looks disturbed; the filters run 6-axis.
@@ -214,11 +221,12 @@ def estimate_orientations(
         mag = None
     quats = {
         s: estimate_orientation(
-            trial.gyr[s],
+            trial.gyr[s] if gyro_bias is None else trial.gyr[s] - gyro_bias[s],
             trial.acc[s],
             None if mag is None else mag[s],
             rate_hz=trial.rate_hz,
             method=filter_name,
+            remove_bias=gyro_bias is None,
         )
         for s in SENSORS
     }
@@ -335,7 +343,15 @@ def process_trial(
 
     clock.start()
     standing = reference if trial.standing_samples(1.0, still) else None
-    orientations = estimate_orientations(trial, filter_name, use_mag=use_mag, reference=standing)
+    # a trial that ends still but does not start still: the filters take the end's bias
+    end_bias = (
+        calib.gyro_bias
+        if not still.samples(cal_options.still_min_s) and still.end(cal_options.still_min_s)
+        else None
+    )
+    orientations = estimate_orientations(
+        trial, filter_name, use_mag=use_mag, reference=standing, gyro_bias=end_bias
+    )
     clock.stop("orientation filters")
 
     clock.start()

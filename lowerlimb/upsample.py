@@ -80,4 +80,4 @@ def upsampled_still(still: StillPeriod | None, factor: int) -> StillPeriod | Non
     if still is None or factor == 1:
         return still
     quiet = None if still.quiet is None else np.repeat(still.quiet, factor)
-    return StillPeriod(still.n_samples * factor, still.rate_hz * factor, quiet)
+    return StillPeriod(still.n_samples * factor, still.rate_hz * factor, quiet, still.end_samples * factor)

@@ -95,8 +95,9 @@ def test_swapped_looking_hips_are_kept_when_the_pelvis_turn_confirms_the_sides(m
 
 def test_the_real_walk_cut_mid_stride_calibrates_without_step_width():
     """Cut 0.3 s after walking begins (no standing start): both legs calibrate with one
-    standing-start warning, the strides keep their lengths and the step width is null, not
-    the 94-145 mm error an anchor at the walk's standing end gave (benchmarks/cut_start.py)."""
+    standing-start warning, the gyro bias is measured over the walk's standing end (1-2 °/s
+    on these sensors), the strides keep their lengths and the step width is null, not the
+    94-145 mm error an anchor at the walk's standing end gave (benchmarks/cut_start.py)."""
     import warnings
 
     import numpy as np
@@ -123,3 +124,8 @@ def test_the_real_walk_cut_mid_stride_calibrates_without_step_width():
     # Vicon: 1.3-1.5 m on the straight passes; the stopping step at the end is short
     assert np.count_nonzero((lengths > 1.2) & (lengths < 1.8)) >= 5
     assert all(np.isnan(s.step_width_m) for s in strides)
+    # no still start: the gyro bias comes from the walk's standing end, and matches the start's
+    for side in ("left", "right"):
+        end = res.legs[side].calibration.gyro_bias["foot"]
+        start = trial.gyr[f"{side}_foot"][200:1000].mean(axis=0)  # the standing start
+        assert np.degrees(np.abs(end - start)).max() < 0.3 and np.degrees(np.abs(end)).max() > 0.5

@@ -1,6 +1,7 @@
 """The one still-period detector: detected once per processed trial and handed on."""
 
 import numpy as np
+import pytest
 from simcache import cached_simulation
 
 import lowerlimb.stillness as stillness
@@ -64,3 +65,25 @@ def test_the_bias_window_spans_the_whole_quiet_stand():
     whole = stillness.gyro_bias(gyrs[0], found.n_samples, found.quiet)
     assert abs(first_run[2] - bias[2]) > 0.02  # the settling turn, taken for bias
     assert np.max(np.abs(whole - bias)) < 0.007  # diluted over the stand
+
+
+def test_a_recording_that_ends_still_has_its_bias_measured_there():
+    """Moving at the start, still for the last 2 s: the end's run is found and, with no still
+    start, the gyro bias is its mean; a still start keeps priority."""
+    rate, n = 100.0, 1000
+    rng = np.random.default_rng(0)
+    bias = np.array([0.02, -0.01, 0.005])
+    t = np.arange(n) / rate
+    gyr = bias + 0.002 * rng.standard_normal((n, 3))
+    acc = np.tile([0.0, 0.0, 9.81], (n, 1)) + 0.01 * rng.standard_normal((n, 3))
+    moving = t < 8.0
+    gyr[moving, 0] += 2.0 * np.sin(2 * np.pi * 1.0 * t[moving])
+    acc[moving, 1] += 3.0 * np.sin(2 * np.pi * 1.0 * t[moving])
+    still = stillness.detect_still_period([gyr], [acc], rate)
+    assert still.samples() == 0
+    assert 150 <= still.end() <= 200  # 2 s, less the window and the margin
+    assert stillness.gyro_bias(gyr, 0, None, still.end()) == pytest.approx(bias, abs=1e-3)
+    assert not np.any(stillness.gyro_bias(gyr, 0, None, 0))  # neither: no bias
+    start = stillness.gyro_bias(gyr[::-1], still.end(), None, still.end())  # a still start wins
+    assert start == pytest.approx(bias, abs=1e-3)
+    assert stillness.StillPeriod(0, rate, end_samples=30).end(0.5) == 0  # under the minimum

@@ -171,14 +171,16 @@ def prepare_signals(
         The prepared signals.
     """
     quiet = None
+    n_end = 0
     if n_still is None:
         n_still = 0
         if options.remove_gyro_bias:
             found = still or detect_still_period(list(gyr.values()), list(acc.values()), rate_hz)
             n_still = found.samples(options.still_min_s)
             quiet = found.quiet
+            n_end = found.end(options.still_min_s)
     if bias is None:
-        bias = {k: gyro_bias(g, n_still, quiet) for k, g in gyr.items()}
+        bias = {k: gyro_bias(g, n_still, quiet, n_end) for k, g in gyr.items()}
     else:
         bias = {k: np.asarray(bias[k], dtype=float) for k in gyr}
     gyr_c = {k: g - bias[k] for k, g in gyr.items()}
