@@ -51,17 +51,6 @@ MATCH_S = 0.2
 REAL_CUTS_S = (0.3, 0.9, 1.4)
 
 
-def cut(trial: BilateralTrial, k0: int) -> BilateralTrial:
-    """The trial from sample ``k0`` on, its clock restarted at zero (as a file cut from it)."""
-    mag = None if trial.mag is None else {s: m[k0:] for s, m in trial.mag.items()}
-    return BilateralTrial(
-        trial.time_s[k0:] - trial.time_s[k0],
-        {s: a[k0:] for s, a in trial.acc.items()},
-        {s: g[k0:] for s, g in trial.gyr.items()},
-        mag,
-    )
-
-
 def _run(trial: BilateralTrial, **kw: Any) -> tuple[Any, dict[str, int]]:
     """The two-leg pipeline and the count of the two warnings of interest (``None`` if refused)."""
     with warnings.catch_warnings(record=True) as caught:
@@ -138,7 +127,7 @@ def simulated(seeds: tuple[int, ...]) -> list[dict[str, Any]]:
         k0 = int(round(0.5 * (to + ic) * sim.trial.rate_hz))
         for label, trial, t0 in (
             ("whole", sim.trial, 0.0),
-            ("cut", cut(sim.trial, k0), k0 / sim.trial.rate_hz),
+            ("cut", sim.trial.from_sample(k0), k0 / sim.trial.rate_hz),
         ):
             res, count = _run(trial)
             row: dict[str, Any] = {"seed": seed, "trial": label, "cut_s": t0, "warnings": count}

@@ -180,10 +180,12 @@ def calibrate_joints(
             f"leg; pass --side {previous.side} or another calibration"
         )
     n_still = still.samples()
+    opts = options or CalibrationOptions()
+    n_end = still.bias_end(opts.still_min_s, opts.still_end_min_s)
     return replace(
         previous,
         runtime_s=0.0,
-        gyro_bias={s: gyro_bias(trial.gyr[s], n_still, still.quiet, still.end()) for s in SENSORS},
+        gyro_bias={s: gyro_bias(trial.gyr[s], n_still, still.quiet, n_end) for s in SENSORS},
         still_s=n_still / trial.rate_hz,
         clock_offsets={},  # the earlier trial's clocks say nothing of this one's; not searched
     )
@@ -344,11 +346,8 @@ def process_trial(
     clock.start()
     standing = reference if trial.standing_samples(1.0, still) else None
     # a trial that ends still but does not start still: the filters take the end's bias
-    end_bias = (
-        calib.gyro_bias
-        if not still.samples(cal_options.still_min_s) and still.end(cal_options.still_min_s)
-        else None
-    )
+    from_end = still.bias_end(cal_options.still_min_s, cal_options.still_end_min_s)
+    end_bias = calib.gyro_bias if from_end else None
     orientations = estimate_orientations(
         trial, filter_name, use_mag=use_mag, reference=standing, gyro_bias=end_bias
     )

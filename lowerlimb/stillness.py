@@ -87,6 +87,16 @@ class StillPeriod:
         """``n`` such that the last ``n`` samples are still, or 0 when shorter than ``min_duration_s``."""
         return self._at_least(self.end_samples, min_duration_s)
 
+    def bias_end(self, start_min_s: float, end_min_s: float | None) -> int:
+        """Samples of the still end that give the gyro bias (0: none).
+
+        The still end's :meth:`end` (at least ``end_min_s``) when there is no still start
+        of ``start_min_s``; else, or with ``end_min_s`` ``None``, 0.
+        """
+        if end_min_s is None or self.samples(start_min_s):
+            return 0
+        return self.end(end_min_s)
+
     def _at_least(self, n: int, min_duration_s: float) -> int:
         return n if n >= max(2, int(round(min_duration_s * self.rate_hz))) else 0
 

@@ -103,16 +103,10 @@ def test_the_real_walk_cut_mid_stride_calibrates_without_step_width():
     import numpy as np
 
     from lowerlimb.bilateral import UnanchoredFeetWarning, process_bilateral_trial
-    from lowerlimb.io.bilateral_trial import BilateralTrial
     from lowerlimb.io.trial import StandingStartWarning
 
     trial, _ = _real_walk_and_swapped()
-    k0 = 1150  # walking begins at sample 1120
-    cut = BilateralTrial(
-        trial.time_s[k0:] - trial.time_s[k0],
-        {s: a[k0:] for s, a in trial.acc.items()},
-        {s: g[k0:] for s, g in trial.gyr.items()},
-    )
+    cut = trial.from_sample(1150)  # walking begins at sample 1120
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         res = process_bilateral_trial(cut)

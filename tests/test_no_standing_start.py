@@ -13,7 +13,6 @@ import pytest
 
 from lowerlimb.bilateral import UnanchoredFeetWarning, process_bilateral_trial
 from lowerlimb.conventions import quat_to_matrix
-from lowerlimb.io.bilateral_trial import BilateralTrial
 from lowerlimb.io.trial import StandingStartWarning
 from lowerlimb.orientation import estimate_orientation
 from lowerlimb.simulation import simulate_bilateral
@@ -27,14 +26,7 @@ def cut():
     to = float(ev.toe_off_s[ev.toe_off_s > 5.0][0])
     ic = float(ev.initial_contact_s[ev.initial_contact_s > to][0])
     k0 = int(round(0.5 * (to + ic) * rate))  # the right foot mid-swing
-    tr = sim.trial
-    trial = BilateralTrial(
-        tr.time_s[k0:] - tr.time_s[k0],
-        {s: a[k0:] for s, a in tr.acc.items()},
-        {s: g[k0:] for s, g in tr.gyr.items()},
-        None if tr.mag is None else {s: m[k0:] for s, m in tr.mag.items()},
-    )
-    return sim, k0, trial
+    return sim, k0, sim.trial.from_sample(k0)
 
 
 def _tilt_deg(q_est, q_true):

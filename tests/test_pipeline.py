@@ -225,20 +225,10 @@ def test_a_walk_cut_mid_stride_keeps_a_usable_magnetometer():
     sensors' dips 19° apart on this walk cut at sample 800)."""
     import warnings as w
 
-    from lowerlimb.io.trial import ImuTrial
     from lowerlimb.pipeline import process_trial
 
-    sim = cached_simulation("walk", 20.0, 33)
-    t = sim.trial
-    k0 = 800
-    cut = ImuTrial(
-        t.time_s[k0:] - t.time_s[k0],
-        {s: a[k0:] for s, a in t.acc.items()},
-        {s: g[k0:] for s, g in t.gyr.items()},
-        {s: m[k0:] for s, m in t.mag.items()},
-        t.side,
-    )
-    assert not cut.has_standing_start()
+    cut = cached_simulation("walk", 20.0, 33).trial.from_sample(800)
+    assert not cut.has_standing_start() and cut.mag is not None
     with w.catch_warnings():
         w.simplefilter("ignore")
         assert process_trial(cut).used_mag

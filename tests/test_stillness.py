@@ -87,3 +87,20 @@ def test_a_recording_that_ends_still_has_its_bias_measured_there():
     start = stillness.gyro_bias(gyr[::-1], still.end(), None, still.end())  # a still start wins
     assert start == pytest.approx(bias, abs=1e-3)
     assert stillness.StillPeriod(0, rate, end_samples=30).end(0.5) == 0  # under the minimum
+
+
+@pytest.mark.parametrize("bad", [0.0, -1.0, float("nan"), float("inf")])
+def test_a_bad_still_end_minimum_is_refused(bad):
+    from lowerlimb.calibration.options import CalibrationOptions
+    from lowerlimb.errors import InputError
+
+    with pytest.raises(InputError, match="still_end_min_s"):
+        CalibrationOptions(still_end_min_s=bad)
+
+
+def test_the_bias_end_needs_no_still_start_and_a_long_enough_end():
+    p = stillness.StillPeriod(0, 100.0, end_samples=150)
+    assert p.bias_end(0.5, 1.0) == 150
+    assert p.bias_end(0.5, 2.0) == 0  # too short an end
+    assert p.bias_end(0.5, None) == 0  # switched off
+    assert stillness.StillPeriod(80, 100.0, end_samples=150).bias_end(0.5, 1.0) == 0  # a still start wins

@@ -143,3 +143,14 @@ def test_time_in_milliseconds(tmp_path):
 
     with pytest.raises(UnitError, match=r"look like milliseconds.*divide the time column by 1000"):
         ImuTrial.from_csv(_write(tmp_path, _trial(), ms))
+
+
+def test_from_sample_cuts_every_signal_and_restarts_the_clock():
+    trial = _trial()
+    cut = trial.from_sample(250)
+    assert cut.n_samples == trial.n_samples - 250 and cut.time_s[0] == 0.0
+    assert cut.time_s[1] == pytest.approx(trial.time_s[251] - trial.time_s[250])
+    for name in ("acc", "gyr"):
+        for sensor, x in getattr(cut, name).items():
+            assert np.array_equal(x, getattr(trial, name)[sensor][250:])
+    assert cut.side == trial.side and cut.rate_hz == pytest.approx(trial.rate_hz)

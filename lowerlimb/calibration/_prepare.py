@@ -178,7 +178,7 @@ def prepare_signals(
             found = still or detect_still_period(list(gyr.values()), list(acc.values()), rate_hz)
             n_still = found.samples(options.still_min_s)
             quiet = found.quiet
-            n_end = found.end(options.still_min_s)
+            n_end = found.bias_end(options.still_min_s, options.still_end_min_s)
     if bias is None:
         bias = {k: gyro_bias(g, n_still, quiet, n_end) for k, g in gyr.items()}
     else:

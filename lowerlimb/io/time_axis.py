@@ -2,17 +2,36 @@
 
 from __future__ import annotations
 
+import dataclasses
+from typing import TypeVar
+
 import numpy as np
 
 from ..conventions import FloatArray
 
 __all__ = ["TimeAxis"]
 
+_T = TypeVar("_T", bound="TimeAxis")
+
 
 class TimeAxis:
     """Mixin for dataclasses with ``time_s``: (N,) strictly increasing sample times, s."""
 
     time_s: FloatArray
+
+    def from_sample(self: _T, k0: int) -> _T:
+        """The recording from sample ``k0`` on, its clock restarted at zero (as a file cut from it).
+
+        Every ``{name: (N, ...)}`` signal dictionary field (``acc``, ``gyr``, ``mag``) is cut
+        alike; other fields are kept.
+        """
+        assert dataclasses.is_dataclass(self)
+        cut: dict[str, object] = {"time_s": self.time_s[k0:] - self.time_s[k0]}
+        for f in dataclasses.fields(self):
+            value = getattr(self, f.name)
+            if isinstance(value, dict):
+                cut[f.name] = {k: v[k0:] for k, v in value.items()}
+        return dataclasses.replace(self, **cut)
 
     @property
     def n_samples(self) -> int:
