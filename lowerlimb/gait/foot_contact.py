@@ -28,7 +28,10 @@ Choices the papers leave open, stated here:
   within :attr:`GaitParams.ic_search_s` and before the next mid-swing peak;
 * a crossing counts only when ω_f then falls below ``-event_min_rps`` within
   :attr:`GaitParams.heel_rocker_s` (a real heel rocker, not noise about zero in
-  a slow swing);
+  a slow swing), all of which must be recorded: a contact in the recording's last
+  ``heel_rocker_s`` is not reported (at 50 Hz the two contacts 50 ms before the end of
+  six 60 s simulated walks came out 17 and 22 ms early, every other one within 12 ms;
+  the zero-phase filters meet the edge there);
 * the crossing is found on the rate low-passed at :attr:`GaitParams.sagittal_lowpass_hz`
   (robust against noise about zero) and then re-timed to the nearest crossing of the
   rate low-passed at :attr:`GaitParams.ic_refine_lowpass_hz` within
@@ -109,7 +112,9 @@ def heel_rocker_onsets(
         k = np.arange(int(m), hi)
         cross = k[(w[k] > 0.0) & (w[k + 1] <= 0.0)]
         for c in cross:
-            if np.min(w[c + 1 : min(c + 1 + n_rock, n)]) < -params.event_min_rps:
+            if c + 1 + n_rock > n:
+                break  # the heel rocker runs past the recording's end: not confirmed, not timed
+            if np.min(w[c + 1 : c + 1 + n_rock]) < -params.event_min_rps:
                 out.append(_retime(fine, float(c) + float(w[c] / (w[c] - w[c + 1])), n_ref))
                 break
     return out
