@@ -152,7 +152,9 @@ def _use_mag(trial: BilateralTrial, filter_name: str, use_mag: bool) -> bool:
         leg = trial.leg(side)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            check = check_magnetic_field(leg, leg.reference_samples() if leg.has_standing_start() else None)
+            still = leg.still_period()
+            standing = leg.reference_samples(still) if leg.standing_samples(1.0, still) else None
+            check = check_magnetic_field(leg, standing)
         if not check.usable:
             warnings.warn(
                 f"the magnetometer looks disturbed ({check.reason}, {side} leg); fusing gyro and "

@@ -85,10 +85,10 @@ def _nearest_periods(intervals_s: FloatArray, ic_s: FloatArray, max_gap_s: float
     gap += np.maximum(ic_s[:, None] - intervals_s[None, :, 1], 0.0)
     nearest = np.argmin(gap, axis=1)
     best = gap[np.arange(len(ic_s)), nearest]
-    for i, j in enumerate(nearest):
-        rivals = best[nearest == j]
-        if best[i] <= max_gap_s and best[i] == rivals.min():
-            idx[i] = j
+    lowest = np.full(intervals_s.shape[0], np.inf)  # each period's smallest gap to a contact
+    np.minimum.at(lowest, nearest, best)
+    keep = (best <= max_gap_s) & (best == lowest[nearest])
+    idx[keep] = nearest[keep]
     return idx
 
 
