@@ -154,3 +154,12 @@ def test_from_sample_cuts_every_signal_and_restarts_the_clock():
         for sensor, x in getattr(cut, name).items():
             assert np.array_equal(x, getattr(trial, name)[sensor][250:])
     assert cut.side == trial.side and cut.rate_hz == pytest.approx(trial.rate_hz)
+
+
+@pytest.mark.parametrize("bad", [-1, 10_000, 2.5, True])
+def test_from_sample_refuses_an_index_outside_the_recording(bad):
+    from lowerlimb.errors import InputError
+
+    trial = _trial()
+    with pytest.raises(InputError, match="from_sample needs a sample index"):
+        trial.from_sample(bad)

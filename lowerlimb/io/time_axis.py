@@ -8,6 +8,7 @@ from typing import TypeVar
 import numpy as np
 
 from ..conventions import FloatArray
+from ..errors import InputError
 
 __all__ = ["TimeAxis"]
 
@@ -24,8 +25,16 @@ class TimeAxis:
 
         Every ``{name: (N, ...)}`` signal dictionary field (``acc``, ``gyr``, ``mag``) is cut
         alike; other fields are kept.
+
+        Raises:
+            InputError: ``k0`` is not a sample index that leaves at least two samples.
         """
         assert dataclasses.is_dataclass(self)
+        if isinstance(k0, bool) or not isinstance(k0, (int, np.integer)) or not 0 <= k0 <= self.n_samples - 2:
+            raise InputError(
+                f"from_sample needs a sample index from 0 to {self.n_samples - 2} (at least two samples "
+                f"left), got {k0!r}"
+            )
         cut: dict[str, object] = {"time_s": self.time_s[k0:] - self.time_s[k0]}
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
