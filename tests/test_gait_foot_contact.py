@@ -65,14 +65,15 @@ def test_foot_mounting_sign_does_not_matter(sign):
     assert np.max(np.abs(ev.initial_contact_s - contact)) <= 0.01
 
 
-def test_toe_off_without_unloading_from_shank_and_both_legs():
+def test_toe_off_without_foot_from_shank_and_both_legs():
     shank, foot, acc, _, _, to = _trial(100.0)
     ev = detect_gait_events(
         100.0, left_shank_gyr=shank, left_foot_gyr=foot, left_foot_acc=acc, right_shank_gyr=shank
     )
     assert ev.left is not None and ev.right is not None
     assert ev.left.ic_method == "foot_heel_rocker" and ev.right.ic_method == "shank_minimum"
-    assert np.max(np.abs(ev.left.toe_off_s - to)) <= 0.01
+    assert set(ev.right.toe_off_source) == {"shank_minimum"}
+    assert np.max(np.abs(ev.right.toe_off_s - to)) <= 0.01
 
 
 def test_crossing_without_heel_rocker_is_not_a_contact():

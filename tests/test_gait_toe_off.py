@@ -4,7 +4,7 @@ import numpy as np
 from test_gait_foot_contact import _trial
 
 from lowerlimb.gait import GaitParams, detect_side_events
-from lowerlimb.gait.toe_off import forefoot_unloading
+from lowerlimb.gait.toe_off import forefoot_unloading, push_off_midpoint
 
 RATE = 100.0
 
@@ -36,6 +36,17 @@ def test_toe_off_is_half_way_down_the_unloading_not_at_its_peak():
     assert k - peak > 0.8  # the peak, the earlier definition, is more than 8 ms early
 
 
+def test_a_second_trough_after_the_swing_starts_is_not_the_unloading():
+    # the swing's first forward acceleration lifts |f| again and drops it 0.5 m/s² deeper
+    om, acc = _push_off(300, t_min=1.00, t_off=1.063, t_zero=1.12, drop=12.0)
+    t = np.arange(300) / RATE
+    acc[:, 2] += 20.0 * np.exp(-0.5 * ((t - 1.09) / 0.006) ** 2)
+    acc[:, 2] -= 0.5 * np.exp(-0.5 * ((t - 1.105) / 0.005) ** 2)
+    (k,) = forefoot_unloading(om, acc, [(60, 200)], RATE, GaitParams())
+    assert k is not None
+    assert abs(k / RATE - 1.063) < 0.004
+
+
 def test_no_unloading_no_push_off_gives_none():
     om, acc = _push_off(300, t_min=1.00, t_off=1.053, t_zero=1.12, drop=12.0)
     flat = np.tile([0.0, 0.0, 9.81], (300, 1))
@@ -53,13 +64,35 @@ def test_estimate_stays_between_rate_minimum_and_zero_crossing():
     assert k is None or 1.0 <= k / RATE <= 1.13
 
 
-def test_side_events_take_the_foot_toe_off_and_flag_it():
+def test_push_off_midpoint_is_the_middle_of_the_rate_bracket():
+    om, _ = _push_off(300, t_min=1.00, t_off=1.063, t_zero=1.12, drop=12.0)
+    (k,) = push_off_midpoint(om, [(60, 200)], RATE, GaitParams())
+    assert k is not None
+    # within 7 ms of the analytic middle: the 15 Hz low-pass rounds the kink at the minimum
+    assert abs(k / RATE - 0.5 * (1.00 + 1.12)) < 0.007
+    assert push_off_midpoint(0.02 * om, [(60, 200)], RATE, GaitParams()) == [None]
+
+
+def test_side_events_fall_back_foot_rate_then_shank_and_flag_it():
     shank, foot, acc, _, _, to = _trial(RATE)
     ev = detect_side_events(shank, RATE, "left", foot_gyr=foot, foot_acc=acc)
-    # constant specific force: every toe-off falls back to the shank minimum
-    assert ev.toe_off_from_foot.shape == ev.toe_off_s.shape
+    # constant specific force: no unloading, every toe-off is the foot's push-off bracket middle,
+    # after the synthetic foot's rate minimum (placed at the toe-off) and before its zero crossing
+    assert ev.toe_off_source.shape == ev.toe_off_s.shape
+    assert set(ev.toe_off_source) == {"foot_rate"}
     assert not ev.toe_off_from_foot.any()
-    assert np.max(np.abs(ev.toe_off_s - to)) <= 0.01
+    assert np.all((ev.toe_off_s - to > 0.01) & (ev.toe_off_s - to < 0.1))
+    # a foot that never plantarflexes faster than event_min_rps: the shank's minimum
+    still = detect_side_events(shank, RATE, "left", foot_gyr=0.01 * foot, foot_acc=acc)
+    assert set(still.toe_off_source) == {"shank_minimum"}
+    assert np.max(np.abs(still.toe_off_s - to)) <= 0.01
+    # with an unloading in every stride, the foot's unloading comes first
+    loaded = acc.copy()
+    for t in to:
+        loaded[:, 2] += 12.0 * np.exp(-0.5 * ((np.arange(acc.shape[0]) / RATE - (t + 0.02)) / 0.02) ** 2)
+    ev2 = detect_side_events(shank, RATE, "left", foot_gyr=foot, foot_acc=loaded)
+    assert set(ev2.toe_off_source) == {"foot_unloading"} and ev2.toe_off_from_foot.all()
+    assert ev2.toe_off_counts() == {"foot_unloading": to.size, "foot_rate": 0, "shank_minimum": 0}
 
 
 def test_gait_json_says_where_the_events_came_from():
@@ -72,5 +105,7 @@ def test_gait_json_says_where_the_events_came_from():
     src = compute_gait_parameters(ev).to_dict()["event_sources"]
     assert src["left"]["initial_contact"] == "foot_heel_rocker"
     assert src["right"]["initial_contact"] == "shank_minimum"
-    assert src["left"]["toe_off_from_foot"] == 0
-    assert src["left"]["toe_off_from_shank"] == ev.left.toe_off_s.size > 0
+    assert src["left"]["toe_off_from_foot"] == src["left"]["toe_off_from_shank"] == 0
+    assert src["left"]["toe_off_from_foot_rate"] == ev.left.toe_off_s.size > 0
+    assert src["right"]["toe_off_from_shank"] == ev.right.toe_off_s.size > 0
+    assert src["right"]["toe_off_from_foot"] == src["right"]["toe_off_from_foot_rate"] == 0

@@ -3,8 +3,9 @@
 With a foot IMU, initial contact (IC) is the onset of the foot's heel rocker, the
 swing-to-stance zero crossing of the foot's sagittal rate
 (:mod:`lowerlimb.gait.foot_contact`), and toe-off (TO) is the forefoot's unloading
-in the foot's specific force (:mod:`lowerlimb.gait.toe_off`); without one, or in a
-stride where the foot shows no unloading, they are the shank minima below.
+in the foot's specific force (:mod:`lowerlimb.gait.toe_off`), or, in a stride where
+the foot shows no unloading, the middle of its push-off rate bracket; without a foot
+IMU, or in a stride where the foot shows no push-off, they are the shank minima below.
 Mid-swing always comes from the shank.
 
 Shank method of Salarian et al. 2004 ("Gait assessment in Parkinson's disease:
@@ -41,10 +42,13 @@ from lowerlimb.gait.foot_contact import foot_sagittal_rate, heel_rocker_onsets
 from lowerlimb.gait.params import GaitParams, samples
 from lowerlimb.gait.sagittal import SagittalRate, sagittal_rate
 from lowerlimb.gait.stationary import StationaryPeriods, detect_stationary
-from lowerlimb.gait.toe_off import forefoot_unloading
+from lowerlimb.gait.toe_off import forefoot_unloading, push_off_midpoint
 from lowerlimb.upsample import upsample_factor, upsampled
 
-__all__ = ["GaitEvents", "SideEvents", "detect_gait_events", "detect_side_events"]
+__all__ = ["TOE_OFF_SOURCES", "GaitEvents", "SideEvents", "detect_gait_events", "detect_side_events"]
+
+#: Where a toe-off can come from, in order of preference (``SideEvents.toe_off_source``).
+TOE_OFF_SOURCES: tuple[str, ...] = ("foot_unloading", "foot_rate", "shank_minimum")
 
 
 @dataclass(frozen=True)
@@ -63,9 +67,11 @@ class SideEvents:
             without a foot IMU).
         ic_method: ``"foot_heel_rocker"`` (foot gyro zero crossing) or
             ``"shank_minimum"`` (Aminian/Salarian fallback without a foot IMU).
-        toe_off_from_foot: (M,) for each toe-off, ``True`` when it is the forefoot's
-            unloading (:mod:`lowerlimb.gait.toe_off`), ``False`` when the shank minimum
-            (no foot IMU, or no unloading in that stride).
+        toe_off_source: (M,) where each toe-off came from: ``"foot_unloading"`` (the
+            forefoot's unloading, :func:`~lowerlimb.gait.toe_off.forefoot_unloading`),
+            ``"foot_rate"`` (no unloading in that stride: the middle of the foot's
+            push-off rate bracket, :func:`~lowerlimb.gait.toe_off.push_off_midpoint`) or
+            ``"shank_minimum"`` (no foot IMU, or no push-off in the foot's rate).
     """
 
     side: str
@@ -77,7 +83,16 @@ class SideEvents:
     start_time_s: float = 0.0
     foot_sagittal: SagittalRate | None = None
     ic_method: str = "shank_minimum"
-    toe_off_from_foot: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    toe_off_source: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype="<U14"))
+
+    @property
+    def toe_off_from_foot(self) -> np.ndarray:
+        """(M,) ``True`` where the toe-off is the forefoot's unloading."""
+        return np.asarray(self.toe_off_source == "foot_unloading", dtype=bool)
+
+    def toe_off_counts(self) -> dict[str, int]:
+        """How many toe-offs came from each source (``TOE_OFF_SOURCES``, all keys present)."""
+        return {k: int(np.count_nonzero(self.toe_off_source == k)) for k in TOE_OFF_SOURCES}
 
 
 @dataclass(frozen=True)
@@ -138,21 +153,26 @@ def _shank_minima(
     return ic, to, windows
 
 
-def _merge_toe_offs(foot: list[float | None], shank: list[float | None]) -> tuple[list[float], list[bool]]:
-    """Per stride the foot's toe-off, else the shank's; strides with neither are dropped.
+def _merge_toe_offs(candidates: dict[str, list[float | None]]) -> tuple[list[float], list[str]]:
+    """Per stride the first source, in ``TOE_OFF_SOURCES`` order, with a toe-off; strides with none drop.
+
+    Args:
+        candidates: ``{source: one entry per stride}``, the sources of ``TOE_OFF_SOURCES``
+            (a missing source has no toe-off in any stride).
 
     Returns:
-        ``(toe_offs, from_foot)``: fractional samples and, for each, whether the foot gave it.
+        ``(toe_offs, sources)``: fractional samples and, for each, the source that gave it.
     """
-    times, flags = [], []
-    for f, s in zip(foot, shank, strict=True):
-        if f is not None:
-            times.append(f)
-            flags.append(True)
-        elif s is not None:
-            times.append(s)
-            flags.append(False)
-    return times, flags
+    n = max(len(v) for v in candidates.values())
+    times, sources = [], []
+    for j in range(n):
+        for name in TOE_OFF_SOURCES:
+            x = candidates.get(name, [None] * n)[j]
+            if x is not None:
+                times.append(x)
+                sources.append(name)
+                break
+    return times, sources
 
 
 def detect_side_events(
@@ -199,7 +219,7 @@ def detect_side_events(
     ic, to, windows = _shank_minima(om, ms, rate_hz, p)
     stationary = foot_sag = None
     ic_method = "shank_minimum"
-    from_foot: list[float | None] = [None] * len(to)
+    candidates: dict[str, list[float | None]] = {"shank_minimum": to}
     if foot_gyr is not None:
         fg = as_signal(foot_gyr, "foot_gyr", w.shape[0])
         fa = as_signal(foot_acc if foot_acc is not None else np.zeros((0, 3)), "foot_acc", w.shape[0])
@@ -207,8 +227,9 @@ def detect_side_events(
         foot_sag = foot_sagittal_rate(fg, sag.omega_rps, rate_hz, p)
         ic = heel_rocker_onsets(foot_sag.omega_rps, ms, rate_hz, p)
         ic_method = "foot_heel_rocker"
-        from_foot = forefoot_unloading(foot_sag.omega_rps, fa, windows, rate_hz, p)
-    to_s, to_foot = _merge_toe_offs(from_foot, to)
+        candidates["foot_unloading"] = forefoot_unloading(foot_sag.omega_rps, fa, windows, rate_hz, p)
+        candidates["foot_rate"] = push_off_midpoint(foot_sag.omega_rps, windows, rate_hz, p)
+    to_s, to_src = _merge_toe_offs(candidates)
     return SideEvents(
         side=side,
         initial_contact_s=start_time_s + np.asarray(ic, dtype=float) / rate_hz,
@@ -219,7 +240,7 @@ def detect_side_events(
         start_time_s=start_time_s,
         foot_sagittal=foot_sag,
         ic_method=ic_method,
-        toe_off_from_foot=np.asarray(to_foot, dtype=bool),
+        toe_off_source=np.asarray(to_src, dtype="<U14"),
     )
 
 
@@ -257,7 +278,7 @@ def _timed_on_interpolated(
         toe_off_s=timed.toe_off_s,
         midswing_s=timed.midswing_s,
         ic_method=timed.ic_method,
-        toe_off_from_foot=timed.toe_off_from_foot,
+        toe_off_source=timed.toe_off_source,
     )
 
 

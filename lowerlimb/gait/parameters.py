@@ -109,7 +109,7 @@ class GaitParameters:
         anchored: Whether step length and width could be formed (a :class:`FootAnchor` was given).
         params: The thresholds used.
         event_sources: ``{side: {"initial_contact": method, "toe_off_from_foot": n,
-            "toe_off_from_shank": n}}``: where each leg's events came from
+            "toe_off_from_foot_rate": n, "toe_off_from_shank": n}}``: where each leg's events came from
             (:class:`~lowerlimb.gait.events.SideEvents`).
         track_drift: the drift of the right track against the left one removed with the
             calibrated chain (:mod:`lowerlimb.gait.drift`), or ``None``.
@@ -173,6 +173,18 @@ class GaitParameters:
         out["event_sources"] = self.event_sources
         out["params"] = asdict(self.params)
         return out
+
+
+_TOE_OFF_KEYS = {
+    "foot_unloading": "toe_off_from_foot",
+    "foot_rate": "toe_off_from_foot_rate",
+    "shank_minimum": "toe_off_from_shank",
+}
+
+
+def _toe_off_counts(se: SideEvents) -> dict[str, int]:
+    """``event_sources``' toe-off counts of one leg (docs/formats.md, "Two legs")."""
+    return {_TOE_OFF_KEYS[k]: n for k, n in se.toe_off_counts().items()}
 
 
 def _between(t: FloatArray, lo: float, hi: float) -> FloatArray:
@@ -440,14 +452,7 @@ def compute_gait_parameters(
                 )
             )
     strides.sort(key=lambda s: s.start_s)
-    sources = {
-        se.side: {
-            "initial_contact": se.ic_method,
-            "toe_off_from_foot": int(np.count_nonzero(se.toe_off_from_foot)),
-            "toe_off_from_shank": int(se.toe_off_s.size - np.count_nonzero(se.toe_off_from_foot)),
-        }
-        for se in events.sides()
-    }
+    sources = {se.side: {"initial_contact": se.ic_method} | _toe_off_counts(se) for se in events.sides()}
     return GaitParameters(
         strides=strides,
         relative_heading_deg=float(np.rad2deg(yaw)),
