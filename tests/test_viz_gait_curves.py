@@ -74,6 +74,12 @@ def test_the_table_has_both_sides_and_the_symmetry_index():
     assert "gait speed" not in table
 
 
+def test_a_count_has_no_symmetry_index():
+    table = parameter_table_html({"left": {"n_strides": 24}, "right": {"n_strides": 25}})
+    row = table[table.index("n strides") :].split("</tr>")[0]
+    assert "<td>24</td><td>25</td><td>—</td>" in row
+
+
 @pytest.fixture(scope="module")
 def two_sides(walk_clean):
     """Both sides from the simulated walk: the right leg half a stride behind (the simulator has one leg)."""

@@ -159,6 +159,10 @@ def plot_gait_cycles(
     return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
 
 
+#: Per-side entries that are counts, not gait parameters: no symmetry index.
+_COUNTS = frozenset({"n_strides"})
+
+
 def parameter_table_html(
     parameters: Mapping[str, Mapping[str, Any]], overall: Mapping[str, Any] | None = None
 ) -> str:
@@ -170,6 +174,8 @@ def parameter_table_html(
             Names ending in ``_s``, ``_m``, ``_pct``, ``_m_s`` show their unit.
         overall: optional ``{name: value}`` of both sides together (cadence, speed,
             step width), shown in the table without a symmetry index.
+
+    Counts (``n_strides``) are shown without a symmetry index too.
     """
     left, right = parameters.get("left", {}), parameters.get("right", {})
     names = [n for n in left if n in right] + [n for n in (*left, *right) if not (n in left and n in right)]
@@ -179,7 +185,8 @@ def parameter_table_html(
         rm, rs = _mean_sd(right.get(name))
         if lm is None and rm is None:
             continue
-        si = symmetry_index_pct(lm, rm) if lm is not None and rm is not None else float("nan")
+        paired = lm is not None and rm is not None and name not in _COUNTS
+        si = symmetry_index_pct(lm, rm) if paired else float("nan")  # type: ignore[arg-type]
         rows.append(
             f"<tr><th>{_e(_label(name))}</th><td>{_fmt(lm, ls)}</td><td>{_fmt(rm, rs)}</td>"
             f"<td>{'—' if not np.isfinite(si) else f'{si:.1f}'}</td></tr>"
