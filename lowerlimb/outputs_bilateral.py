@@ -149,7 +149,8 @@ def _summary_rows(result: BilateralResult) -> str:
     ]
     g = result.gait.to_dict()
     if result.gait.parameters is not None:
-        rows.append(("cadence", f"{g['cadence_steps_per_min']:.1f} steps/min"))
+        if g.get("cadence_steps_per_min") is not None:
+            rows.append(("cadence", f"{g['cadence_steps_per_min']:.1f} steps/min"))
         if g.get("gait_speed_m_s") is not None:
             rows.append(("gait speed", f"{g['gait_speed_m_s']:.2f} m/s"))
         for side in SIDES:

@@ -278,3 +278,22 @@ def test_two_leg_report_overlays_the_gait_cycles_of_both_sides(two_legs):
     assert "gait-parameters" in page and "SI (%)" in page
     table = page.split("id='gait-parameters'", 1)[1].split("</table>", 1)[0]
     assert "anchored" not in table  # a flag, not a parameter
+
+
+def test_a_walk_too_short_for_a_cadence_still_writes_its_report(tmp_path: Path):
+    """3 s of a seven-IMU walk (one step per side): gait.json's cadence is null and the
+    report says so instead of failing on it (it was an internal error)."""
+    from lowerlimb.simulation import simulate_bilateral
+
+    full = simulate_bilateral(30.0, 3).trial
+    k = int(round(3.0 * full.rate_hz))
+    short = BilateralTrial(
+        full.time_s[:k], {s: a[:k] for s, a in full.acc.items()}, {s: g[:k] for s, g in full.gyr.items()}
+    )
+    short.to_csv(tmp_path / "short.csv")
+    r = _cli("calibrate", str(tmp_path / "short.csv"), "--out", str(tmp_path / "o"))
+    assert r.returncode == 0, r.stderr
+    assert "internal error" not in r.stderr
+    gait = json.loads((tmp_path / "o" / "gait.json").read_text())
+    assert gait["cadence_steps_per_min"] is None
+    assert "cadence" not in (tmp_path / "o" / "report.html").read_text().split("<h2>")[0]
