@@ -67,6 +67,19 @@ class NonFiniteValueError(InputError):
         )
 
 
+class SampleGlitchError(InputError):
+    """A finite sample far beyond any sensor's range (a corrupt value in the file)."""
+
+    def __init__(self, column: str, row: int, value: float) -> None:
+        self.column = column
+        self.row = row
+        self.value = value
+        super().__init__(
+            f"column '{column}' reads {value:.3g} at data row {row}, beyond any sensor's range; "
+            f"fix or cut that sample before calibrating"
+        )
+
+
 class TimeAxisError(InputError):
     """The time column is not strictly increasing or not evenly sampled."""
 

@@ -16,7 +16,7 @@ import pytest
 from bilateral_sim import simulate_two_legs
 
 from lowerlimb.conventions import SIDES
-from lowerlimb.errors import InputError, MissingColumnError, NonFiniteValueError, UnitError
+from lowerlimb.errors import InputError, MissingColumnError, NonFiniteValueError, SampleGlitchError, UnitError
 from lowerlimb.gait import EVENTS_COLUMNS, STATIONARY_COLUMNS
 from lowerlimb.io.bilateral_tables import BILATERAL_ANGLE_COLUMNS, BILATERAL_POSITION_COLUMNS
 from lowerlimb.io.bilateral_trial import BilateralTrial, trial_layout
@@ -93,6 +93,22 @@ def test_validation_names_the_column_as_in_the_file(tmp_path: Path):
         UnitError, match=r"right_shank gyro values up to \d+ look like deg/s.*multiply by π/180"
     ):
         BilateralTrial.from_csv(_write_variant(tmp_path, degrees))
+
+
+def test_a_repeated_or_corrupt_two_leg_column_is_refused(tmp_path: Path):
+    """A second ``left_thigh_gyr_x`` column used to win silently (a garbage left knee)."""
+    path = _write_variant(tmp_path, lambda acc, gyr: None)
+    lines = path.read_text().splitlines()
+    path.write_text("\n".join([lines[0] + ",left_thigh_gyr_x"] + [r + ",0.0" for r in lines[1:]]) + "\n")
+    with pytest.raises(InputError, match="has the column 'left_thigh_gyr_x' 2 times"):
+        BilateralTrial.from_csv(path)
+
+    def glitch(acc, gyr):
+        acc["right_foot"][40, 2] = 1e300
+
+    with pytest.raises(SampleGlitchError, match="'right_foot_acc_z' reads 1e\\+300 at data row 41") as e:
+        BilateralTrial.from_csv(_write_variant(tmp_path, glitch))
+    assert e.value.column == "right_foot_acc_z" and e.value.row == 41
 
 
 def test_an_empty_cell_is_named_by_its_column(tmp_path: Path):

@@ -77,6 +77,26 @@ def test_duplicated_column_name_is_refused(files, tmp_path, capsys):
     assert "'pelvis_acc_x' 2 times" in err
 
 
+@pytest.mark.parametrize(
+    ("column", "value"), [("thigh_acc_x", 1e300), ("shank_acc_z", 1e6), ("foot_gyr_y", 1e10)]
+)
+def test_one_corrupt_huge_sample_is_named(files, tmp_path, capsys, column, value):
+    """A finite sample beyond any sensor's range: an internal solver error (1e300), or
+    "thigh and shank swapped" (1e6), or "deg/s" (a 1e10 gyro) before."""
+    data = files["data"].copy()
+    data[1200, files["header"].index(column)] = value
+    err = calibrate_refused(files, tmp_path, capsys, save(tmp_path / "huge.csv", files["header"], data))
+    assert f"column '{column}' reads {value:.3g} at data row 1201, beyond any sensor's range" in err
+
+
+def test_an_accelerometer_in_mm_per_s2_is_a_unit_not_a_glitch(files, tmp_path, capsys):
+    data = files["data"].copy()
+    k = files["header"].index("shank_acc_x")
+    data[:, k : k + 3] *= 1000.0
+    err = calibrate_refused(files, tmp_path, capsys, save(tmp_path / "mm.csv", files["header"], data))
+    assert "shank accelerometer median magnitude" in err and "expects m/s²" in err
+
+
 @pytest.mark.parametrize("kind", ["constant", "still"])
 def test_trial_with_no_motion_is_refused(files, tmp_path, capsys, kind):
     data = files["data"]

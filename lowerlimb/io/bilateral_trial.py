@@ -25,7 +25,14 @@ from ..errors import InputError, MissingColumnError, TooShortError
 from ..stillness import StillPeriod, detect_still_period
 from .recording import TWO_LEG_SENSORS
 from .time_axis import TimeAxis
-from .trial import MIN_DURATION_S, ImuTrial, NoMotionError, check_distinct_sensors, column_names
+from .trial import (
+    MIN_DURATION_S,
+    ImuTrial,
+    NoMotionError,
+    check_distinct_sensors,
+    check_unique_columns,
+    column_names,
+)
 
 __all__ = ["LAYOUTS", "BilateralTrial", "read_header", "trial_layout", "with_file_names"]
 
@@ -199,6 +206,7 @@ class BilateralTrial(TimeAxis):
             )
         if "time" not in header:
             raise MissingColumnError("time", header, path, two_legs=True)
+        check_unique_columns(header, path)
         raw = _read_numbers(path)
         if raw.size == 0:
             raise TooShortError(0.0, MIN_DURATION_S)

@@ -39,6 +39,9 @@ class InputBounds:
             less than this (standard deviation of the angular-rate magnitude,
             rad/s) holds no motion to calibrate from.
         max_json_bytes: largest calibration or S2J JSON file read, bytes.
+        max_sample_abs: largest magnitude of one accelerometer (m/s²) or gyro (rad/s)
+            sample of a trial: beyond every body-worn sensor's range in any unit
+            (1000 g, 10 000 deg/s), so a larger one is a glitch in the file.
     """
 
     max_center_m: float = 1.0
@@ -50,6 +53,7 @@ class InputBounds:
     max_seed: int = 2**32 - 1
     min_motion_gyro_std_rps: float = 0.05
     max_json_bytes: int = 200_000_000
+    max_sample_abs: float = 1.0e4
 
 
 #: The bounds used unless a caller passes others.

@@ -23,11 +23,13 @@ from ..errors import (
     InputError,
     MissingColumnError,
     NonFiniteValueError,
+    SampleGlitchError,
     TimeAxisError,
     TooShortError,
     UnitError,
 )
 from ..stillness import StillPeriod, detect_still_period
+from .bounds import INPUT_BOUNDS
 from .time_axis import TimeAxis
 
 #: Lowest sampling rate accepted, Hz: below it the time column is taken to be in ms.
@@ -126,6 +128,8 @@ class ImuTrial(TimeAxis):
         Raises:
             TimeAxisError: non-increasing or uneven time.
             NonFiniteValueError: NaN or inf in any signal.
+            SampleGlitchError: an accelerometer or gyro sample beyond any sensor's range
+                (:attr:`~lowerlimb.io.bounds.InputBounds.max_sample_abs`).
             UnitError: gyro in deg/s or accelerometer in g.
             TooShortError: fewer than 2 s of data.
             InputError: wrong array shapes or an unknown side.
@@ -154,6 +158,11 @@ class ImuTrial(TimeAxis):
                 if bad.size:
                     r, c = bad[0]
                     raise NonFiniteValueError(f"{sensor}_{name}_{'xyz'[c]}", int(r) + 1)
+                huge = np.argwhere(np.abs(x) > INPUT_BOUNDS.max_sample_abs)
+                # a few such samples are glitches; a signal mostly beyond is in another unit (below)
+                if name != "mag" and huge.size and huge.shape[0] < 0.5 * x.shape[0]:
+                    r, c = huge[0]
+                    raise SampleGlitchError(f"{sensor}_{name}_{'xyz'[c]}", int(r) + 1, float(x[r, c]))
         dt = np.diff(t)
         if np.any(dt <= 0):
             k = int(np.flatnonzero(dt <= 0)[0])
@@ -189,6 +198,13 @@ class ImuTrial(TimeAxis):
                 raise InputError(
                     f"the {sensor} accelerometer columns are all zero: the sensor recorded nothing; "
                     f"check its columns in the export"
+                )
+            if amed > INPUT_BOUNDS.max_sample_abs:
+                raise UnitError(
+                    f"{sensor}_acc",
+                    amed,
+                    f"{sensor} accelerometer median magnitude {amed:.3g} is beyond any sensor's range "
+                    f"in m/s²; the trial format expects m/s² (about {GRAVITY_MPS2} at rest)",
                 )
             if amed < MIN_MEDIAN_ACC_MPS2:
                 raise UnitError(
@@ -380,6 +396,16 @@ def _read_header(path: str) -> list[str]:
                     f"comma too); save it as a comma-separated CSV with '.' as the decimal mark"
                 )
         raise MissingColumnError("time", header, path)
+    check_unique_columns(header, path)
+    return header
+
+
+def check_unique_columns(header: list[str], path: str) -> None:
+    """Refuse a header that names a column twice (which copy is meant cannot be known).
+
+    Raises:
+        InputError: naming the repeated columns.
+    """
     dup = sorted({h for h in header if header.count(h) > 1})
     if dup:
         raise InputError(
@@ -387,7 +413,6 @@ def _read_header(path: str) -> list[str]:
             f"{' (and ' + ', '.join(repr(d) for d in dup[1:]) + ')' if len(dup) > 1 else ''}; "
             f"each column name must appear once"
         )
-    return header
 
 
 def _read_numbers(path: str, header: list[str], usecols: list[int]) -> FloatArray:
