@@ -112,7 +112,7 @@ def test_a_repeated_or_corrupt_two_leg_column_is_refused(tmp_path: Path):
 
 
 def test_an_empty_cell_is_named_by_its_column(tmp_path: Path):
-    """The fast reader refuses an empty cell; the careful one reads it as NaN, which is named."""
+    """The fast reader refuses an empty cell; the careful one (the single-leg reader's) names it."""
     path = _write_variant(tmp_path, lambda acc, gyr: None)
     lines = path.read_text().splitlines()
     k = lines[0].split(",").index("right_shank_acc_x")
@@ -120,9 +120,22 @@ def test_an_empty_cell_is_named_by_its_column(tmp_path: Path):
     cells[k] = ""
     lines[5] = ",".join(cells)
     path.write_text("\n".join(lines) + "\n")
-    with pytest.raises(NonFiniteValueError, match="'right_shank_acc_x'") as e:
-        BilateralTrial.from_csv(path)
-    assert e.value.row == 5  # the file's fifth data row
+    with pytest.raises(InputError, match="column 'right_shank_acc_x' is empty at data row 5"):
+        BilateralTrial.from_csv(path)  # the file's fifth data row
+    cells[k] = "abc"
+    lines[5] = ",".join(cells)
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(InputError, match="'right_shank_acc_x' holds the text 'abc' at data row 5"):
+        BilateralTrial.from_csv(path)  # a NaN before
+
+
+def test_quoted_numbers_are_numbers(tmp_path: Path):
+    path = _write_variant(tmp_path, lambda acc, gyr: None)
+    lines = path.read_text().splitlines()
+    quoted = [lines[0]] + [",".join(f'"{c}"' for c in r.split(",")) for r in lines[1:]]
+    (tmp_path / "q.csv").write_text("\n".join(quoted) + "\n")
+    a, b = BilateralTrial.from_csv(path), BilateralTrial.from_csv(tmp_path / "q.csv")
+    assert np.array_equal(a.time_s, b.time_s) and np.array_equal(a.gyr["right_foot"], b.gyr["right_foot"])
 
 
 def test_a_missing_two_leg_column_is_named(tmp_path: Path):

@@ -126,6 +126,9 @@ def test_existing_output_directory_is_refused(tmp_path, capsys):
     sim.trial.to_csv(tmp_path / "t.csv")
     assert main(["calibrate", str(tmp_path / "t.csv"), "--out", str(tmp_path / "o")]) == 2
     assert "not empty" in capsys.readouterr().err
+    assert main(["calibrate", str(tmp_path / "t.csv"), "--out", str(tmp_path / "o" / "keep.txt")]) == 2
+    assert "is an existing file, not a folder" in capsys.readouterr().err
+    assert (tmp_path / "o" / "keep.txt").read_text() == "x"
 
 
 def test_reusing_a_rich_calibration_fixes_a_poorly_excited_trial(tmp_path, capsys):

@@ -126,7 +126,9 @@ def check_new_directory(out: Path) -> None:
             its parent is missing or read-only.
     """
     out = Path(out)
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+    if out.exists() and not out.is_dir():
+        raise InputError(f"{out} is an existing file, not a folder; choose a new --out directory")
+    if out.exists() and any(out.iterdir()):
         raise InputError(f"{out} already exists and is not empty; choose a new --out directory")
     check_writable_parent(out.resolve() if str(out) else out)
 

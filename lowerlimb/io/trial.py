@@ -313,7 +313,7 @@ class ImuTrial(TimeAxis):
         for n in names:
             if n not in col:
                 raise MissingColumnError(n, header, path)
-        raw = _read_numbers(path, header, [col[n] for n in names])
+        raw = read_numbers(path, header, [col[n] for n in names])
         if raw.shape[0] == 0:
             raise TooShortError(0.0, MIN_DURATION_S)
         k = {n: i for i, n in enumerate(names)}
@@ -415,8 +415,16 @@ def check_unique_columns(header: list[str], path: str) -> None:
         )
 
 
-def _read_numbers(path: str, header: list[str], usecols: list[int]) -> FloatArray:
-    """(N, len(usecols)) numbers of the data rows; a bad cell is named by row and column."""
+def read_numbers(path: str, header: list[str], usecols: list[int]) -> FloatArray:
+    """(N, len(usecols)) numbers of the data rows; a bad cell is named by row and column.
+
+    numpy's C reader first; a file it refuses is read again cell by cell, which accepts
+    quoted numbers and names the first empty or non-numeric cell, or a row of the wrong
+    length.
+
+    Raises:
+        InputError: naming the bad cell or row.
+    """
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -429,7 +437,8 @@ def _read_numbers(path: str, header: list[str], usecols: list[int]) -> FloatArra
         ) from None
     except ValueError:
         pass
-    # the slow path, only to name the first bad cell
+    # the slow path: quoted numbers, or naming the first bad cell
+    rows: list[list[float]] = []
     with open(path, newline="", encoding="utf-8-sig") as f:
         reader = csv.reader(f)
         next(reader)
@@ -460,7 +469,8 @@ def _read_numbers(path: str, header: list[str], usecols: list[int]) -> FloatArra
                         f"column '{header[c]}' holds the text {cell[:40]!r} at data row {row_no}, not a "
                         f"number; every cell of a trial must be a number"
                     ) from None
-    raise InputError(f"{path} has rows of unequal length or bad cells; fix the CSV")
+            rows.append([float(row[c]) for c in usecols])
+    return np.asarray(rows, dtype=float).reshape(-1, len(usecols))
 
 
 def _is_comma_decimal(cell: str) -> bool:
