@@ -89,6 +89,15 @@ def test_one_corrupt_huge_sample_is_named(files, tmp_path, capsys, column, value
     assert f"column '{column}' reads {value:.3g} at data row 1201, beyond any sensor's range" in err
 
 
+def test_a_constant_accelerometer_is_named(files, tmp_path, capsys):
+    """It was reported as two knee axes pointing apart (a two-leg trial) or a bad hinge."""
+    data = files["data"].copy()
+    k = files["header"].index("thigh_acc_x")
+    data[:, k : k + 3] = data[0, k : k + 3]
+    err = calibrate_refused(files, tmp_path, capsys, save(tmp_path / "c.csv", files["header"], data))
+    assert "the thigh accelerometer reads one constant value in every row" in err
+
+
 def test_an_accelerometer_in_mm_per_s2_is_a_unit_not_a_glitch(files, tmp_path, capsys):
     data = files["data"].copy()
     k = files["header"].index("shank_acc_x")

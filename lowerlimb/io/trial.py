@@ -199,6 +199,12 @@ class ImuTrial(TimeAxis):
                     f"the {sensor} accelerometer columns are all zero: the sensor recorded nothing; "
                     f"check its columns in the export"
                 )
+            moving = np.any(np.ptp(self.gyr[sensor], axis=0))  # else it is a still trial (check_motion)
+            if moving and not np.any(np.ptp(self.acc[sensor], axis=0)):
+                raise InputError(
+                    f"the {sensor} accelerometer reads one constant value in every row: the sensor "
+                    f"recorded nothing (a real one always has noise); check its columns in the export"
+                )
             if amed > INPUT_BOUNDS.max_sample_abs:
                 raise UnitError(
                     f"{sensor}_acc",
