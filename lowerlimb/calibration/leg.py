@@ -47,6 +47,7 @@ from lowerlimb.calibration.knee_line import axis_mismatch_message, standing_axis
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.calibration.segment_prior import CenterPrior, center_prior, segment_up
+from lowerlimb.calibration.split_half import half_masks, split_half_message, split_half_shift
 from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import JOINT_SENSORS, SENSORS, FloatArray
 from lowerlimb.errors import InputError
@@ -321,9 +322,14 @@ def calibrate_leg(
             ("ankle", ankle_data, pa, ca, ankle_prior, ankle_keep),
         )
     )
+    setup = {"hip": (p, c, hip_prior, hip_keep), "ankle": (pa, ca, ankle_prior, ankle_keep)}
     if opts.cutoff_probe:
-        setup = {"hip": (p, c, hip_prior, hip_keep), "ankle": (pa, ca, ankle_prior, ankle_keep)}
         hip, ankle = _probe_cutoffs(hip, ankle, setup, acc, gyr, sig, method, opts)
+    if opts.split_half_probe:
+        hip, ankle = (
+            _probe_halves(j, d, setup[j.joint], sig.n_still, method, opts)
+            for j, d in ((hip, hip_data), (ankle, ankle_data))
+        )
     if opts.centre_form == "aligned" or opts.hip_in_pelvis_form == "aligned":
         keeps = {"hip": hip_keep, "ankle": ankle_keep}
         hip, knee, ankle = _aligned(hip, knee, ankle, acc, gyr, sig, caps, keeps, opts)
@@ -544,6 +550,49 @@ def _probe_cutoffs(
     pairs = {k: (v[0], v[1]) for k, v in setup.items()}
     out = with_cutoff_shifts({"hip": hip, "ankle": ankle}, pairs, acc, gyr, sig, options, refit)
     return out["hip"], out["ankle"]
+
+
+def _probe_halves(
+    joint: SphericalJointCalibration,
+    data: SphericalData,
+    setup: tuple[str, str, CenterPrior | None, ArrayLike | None],
+    n_still: int,
+    method: str,
+    options: CalibrationOptions,
+) -> SphericalJointCalibration:
+    """The joint with its split-half shift recorded, and warned about (:mod:`.split_half`)."""
+    s, t, pr, kp = setup
+    keep = None if kp is None else np.asarray(kp, dtype=bool)
+    step = subsample_step(data.acc_parent.shape[0], options.cutoff_probe_max_samples)
+    if step > 1:
+        data, keep, n_still = (
+            data.subsample(step),
+            None if keep is None else keep[::step],
+            -(-n_still // step),
+        )
+    quiet = replace(options, center_std_tol_m=np.inf, min_rms_rate_rps=0.0)
+
+    def refit(mask: np.ndarray) -> SphericalJointCalibration:
+        return fit_spherical(
+            data,
+            method=_local(method),
+            options=quiet,
+            joint=joint.joint,
+            parent_sensor=s,
+            child_sensor=t,
+            prior=pr,
+            keep=mask,
+        )
+
+    shift = split_half_shift(refit, half_masks(data.acc_parent.shape[0], keep, n_still))
+    if joint.joint == "hip" and options.hip_in_pelvis_form == "aligned":
+        shift[:3] = np.nan  # the norm form's hip in the pelvis sensor is not the one reported
+    out = replace(joint, split_half_shift=shift)
+    message = split_half_message(out, options.split_half_warn_m)
+    if message is None:
+        return out
+    issue_warnings([message], stacklevel=4)
+    return replace(out, warnings=[*out.warnings, message])
 
 
 def _with_warning(knee: HingeJointCalibration, message: str) -> HingeJointCalibration:

@@ -214,6 +214,12 @@ class CalibrationOptions:
             widened and record how far each centre moves
             (:mod:`~lowerlimb.calibration.cutoff_probe`; a record, no estimate changes).
         cutoff_probe_factor: the widening factor (> 1).
+        split_half_probe: repeat the hip and ankle fits on each half of the recording and
+            record half the difference (:mod:`~lowerlimb.calibration.split_half`; a
+            record and a warning, no estimate changes). Refits are thinned as the cut-off
+            probe's (``cutoff_probe_max_samples``).
+        split_half_warn_m: warn when a centre moves by more than this between the halves
+            (half the difference, in either sensor frame), m.
         cutoff_probe_max_samples: the probe refits a longer trial on every k-th sample, so
             that at most this many remain (a record of centimetre shifts does not need all of
             a 20-minute walk; the refits were a third of its calibration time).
@@ -309,6 +315,8 @@ class CalibrationOptions:
     cutoff_probe: bool = True
     cutoff_probe_factor: float = 1.5
     cutoff_probe_max_samples: int = 6000
+    split_half_probe: bool = True
+    split_half_warn_m: float = 0.03
     min_fit_rate_hz: float | None = 100.0
     fit_max_samples: int | None = 12000
     clock_sync: bool = True
@@ -362,6 +370,8 @@ class CalibrationOptions:
             raise InputError(f"fit_max_samples must be >= 100 or None, got {self.fit_max_samples}")
         if self.cutoff_probe_max_samples < 100:
             raise InputError(f"cutoff_probe_max_samples must be >= 100, got {self.cutoff_probe_max_samples}")
+        if not 0.0 < self.split_half_warn_m < math.inf:
+            raise InputError(f"split_half_warn_m must be a length > 0 in m, got {self.split_half_warn_m}")
         if not self.cutoff_probe_factor > 1.0:
             raise InputError(f"cutoff_probe_factor must be > 1, got {self.cutoff_probe_factor}")
         if not 0.0 < self.clock_min_explained <= 1.0:

@@ -76,6 +76,9 @@ class SphericalJointCalibration:
             repeated with every prefilter cut-off widened by half
             (:mod:`~lowerlimb.calibration.cutoff_probe`), m; NaN when not probed. A
             systematic spread that the noise-based ``std`` does not see.
+        split_half_shift: (6,) half the difference of ``(c_parent, c_child)`` fitted on
+            the recording's second and first half (:mod:`~lowerlimb.calibration.split_half`),
+            m; NaN when not probed (in the pelvis sensor when the aligned form places the hip).
     """
 
     joint: str
@@ -93,6 +96,7 @@ class SphericalJointCalibration:
     warnings: list[str] = field(default_factory=list)
     impact_excluded_fraction: float = 0.0
     cutoff_shift: FloatArray = field(default_factory=lambda: np.full(6, np.nan))
+    split_half_shift: FloatArray = field(default_factory=lambda: np.full(6, np.nan))
 
     @property
     def center_std_in_parent_sensor(self) -> FloatArray:
@@ -137,6 +141,9 @@ class SphericalJointCalibration:
         if np.all(np.isfinite(self.cutoff_shift)):
             d["center_cutoff_shift_in_parent_sensor"] = _list(self.cutoff_shift[:3])
             d["center_cutoff_shift_in_child_sensor"] = _list(self.cutoff_shift[3:6])
+        for frame, part in (("parent", self.split_half_shift[:3]), ("child", self.split_half_shift[3:6])):
+            if np.all(np.isfinite(part)):
+                d[f"center_split_half_shift_in_{frame}_sensor"] = _list(part)
         return d
 
     @classmethod
@@ -161,6 +168,12 @@ class SphericalJointCalibration:
             warnings=list(d.get(key_prefix + "warnings", [])),
             impact_excluded_fraction=float(d.get(key_prefix + "impact_excluded_fraction", 0.0)),
             cutoff_shift=_cutoff_shift(d, key_prefix),
+            split_half_shift=np.concatenate(
+                [
+                    _vec(d.get(f"{key_prefix}center_split_half_shift_in_{f}_sensor", [np.nan] * 3))
+                    for f in ("parent", "child")
+                ]
+            ),
         )
 
 

@@ -232,7 +232,7 @@ def _warnings_section(calibration: Mapping[str, Any]) -> str:
 
 
 #: A centre, its noise spread and its cut-off shift: calibration.json keys before ``_in_*_sensor``.
-_CENTRE_KEYS = ("center", "center_std", "center_cutoff_shift")
+_CENTRE_KEYS = ("center", "center_std", "center_cutoff_shift", "center_split_half_shift")
 
 
 def _joint_table(calibration: Mapping[str, Any]) -> str:
@@ -446,14 +446,17 @@ def _vec(v: Any, scale: float = 1.0, digits: int = 3) -> str:
     return "(" + ", ".join(f"{x:.{digits}f}" for x in a) + ")"
 
 
-def _mm(v: Any, std: Any = None, shift: Any = None) -> str:
+def _mm(v: Any, std: Any = None, shift: Any = None, halves: Any = None) -> str:
     text = _vec(v, 1000.0, 1)
     if std is not None and np.all(np.isfinite(np.asarray(std, dtype=float))):
         text += f" <span class='std'>± {_vec(std, 1000.0, 1)}</span>"
-    if shift is not None and np.all(np.isfinite(np.asarray(shift, dtype=float))):
-        moved = 1000.0 * float(np.linalg.norm(np.asarray(shift, dtype=float)))
-        tip = "moves this far with the prefilter cut-offs widened by half"
-        text += f" <span class='shift' title='{tip}'>(cut-off: {moved:.0f} mm)</span>"
+    for value, label, tip in (
+        (shift, "cut-off", "moves this far with the prefilter cut-offs widened by half"),
+        (halves, "halves", "half the distance between the centres fitted on the first and second half"),
+    ):
+        if value is not None and np.all(np.isfinite(np.asarray(value, dtype=float))):
+            moved = 1000.0 * float(np.linalg.norm(np.asarray(value, dtype=float)))
+            text += f" <span class='shift' title='{tip}'>({label}: {moved:.0f} mm)</span>"
     return text
 
 
