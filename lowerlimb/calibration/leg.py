@@ -563,7 +563,9 @@ def _probe_halves(
     """The joint with its split-half shift recorded, and warned about (:mod:`.split_half`)."""
     s, t, pr, kp = setup
     keep = None if kp is None else np.asarray(kp, dtype=bool)
-    step = subsample_step(data.acc_parent.shape[0], options.cutoff_probe_max_samples)
+    # each half as many samples as the cut-off probe's half: the signals are low-passed well below
+    # the sampling rate, so thinning costs the refit little precision
+    step = subsample_step(data.acc_parent.shape[0], options.cutoff_probe_max_samples // 2)
     if step > 1:
         data, keep, n_still = (
             data.subsample(step),

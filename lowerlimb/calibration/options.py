@@ -216,8 +216,8 @@ class CalibrationOptions:
         cutoff_probe_factor: the widening factor (> 1).
         split_half_probe: repeat the hip and ankle fits on each half of the recording and
             record half the difference (:mod:`~lowerlimb.calibration.split_half`; a
-            record and a warning, no estimate changes). Refits are thinned as the cut-off
-            probe's (``cutoff_probe_max_samples``).
+            record and a warning, no estimate changes). Refits are thinned to at most
+            ``cutoff_probe_max_samples / 2`` samples in all.
         split_half_warn_m: warn when a centre moves by more than this between the halves
             (half the difference, in either sensor frame), m.
         cutoff_probe_max_samples: the probe refits a longer trial on every k-th sample, so
