@@ -67,6 +67,7 @@ def test_one_corrupt_file_among_ten_finishes_and_a_rerun_does_no_work(tmp_path):
         units = {"angles.units.json", "positions.units.json"}
         assert {p.name for p in folder.iterdir()} == set(OUTPUT_FILES.values()) | units | {MARKER}
         assert 400 < float(r["thigh_length_mm"]) < 450 and float(r["knee_flexion_range_deg"]) > 30
+        assert 0.0 <= float(r["split_half_max_mm"]) < 30.0  # steady simulated walks: no warning
     assert (out / FAILED_DIR / "s2__corrupt.json").is_file()
     subjects = list(csv.DictReader(open(out / "study_subjects.csv")))
     assert [s["subject"] for s in subjects] == ["s1", "s2"]
@@ -230,6 +231,7 @@ def test_a_study_mixing_one_leg_and_two_leg_trials(tmp_path):
     two = by_trial["both.csv"]
     assert two["status"] in ("ok", "warning") and two["side"] == "both"
     assert 380 < float(two["left_thigh_length_mm"]) < 470 and 380 < float(two["right_thigh_length_mm"]) < 470
+    assert float(two["left_split_half_max_mm"]) >= 0.0 and float(two["right_split_half_max_mm"]) >= 0.0
     assert float(two["cadence_steps_per_min"]) > 60 and float(two["stride_length_m"]) > 0.5
     assert 0.0 < float(two["step_width_m"]) < 0.4
     folder = {p.name for p in (out / two["folder"]).iterdir()}

@@ -173,19 +173,33 @@ def key_results(result: TrialResult) -> dict[str, float]:
     Returns:
         ``duration_s``; ``thigh_length_mm`` (hip to knee centre) and ``shank_length_mm``
         (knee to ankle centre) of the calibrated leg; and ``<angle>_range_deg``, the
-        range (max − min) of each of the 9 ISB angles over the trial, deg.
+        range (max − min) of each of the 9 ISB angles over the trial, deg; and
+        ``split_half_max_mm``, the largest split-half shift of the hip and ankle centres
+        (:mod:`lowerlimb.calibration.split_half`; NaN when not probed), mm.
     """
     origins = result.model.geometry.joint_origins
     out = {
         "duration_s": round(float(result.trial.duration_s), 3),
         "thigh_length_mm": round(1000.0 * float(np.linalg.norm(origins["knee"][:3, 3])), 2),
         "shank_length_mm": round(1000.0 * float(np.linalg.norm(origins["ankle"][:3, 3])), 2),
+        "split_half_max_mm": _split_half_max_mm(result),
     }
     deg = np.rad2deg(result.angles_rad)
     for k, name in enumerate(ANGLE_COLUMNS[1:]):
         column = deg[:, k][np.isfinite(deg[:, k])]
         out[f"{name}_range_deg"] = round(float(np.ptp(column)), 2) if column.size else float("nan")
     return out
+
+
+def _split_half_max_mm(result: TrialResult) -> float:
+    """Largest split-half shift (norm per sensor frame) of the hip and ankle, mm; NaN when none."""
+    shifts = [
+        float(np.linalg.norm(part))
+        for joint in (result.calibration.hip, result.calibration.ankle)
+        for part in (joint.split_half_shift[:3], joint.split_half_shift[3:])
+        if np.all(np.isfinite(part))
+    ]
+    return round(1000.0 * max(shifts), 1) if shifts else math.nan
 
 
 def replace_directory(out: Path, fill: Callable[[Path], None]) -> None:
