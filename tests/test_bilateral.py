@@ -129,6 +129,18 @@ def test_an_empty_cell_is_named_by_its_column(tmp_path: Path):
         BilateralTrial.from_csv(path)  # a NaN before
 
 
+def test_magnetometer_of_the_pelvis_only_is_said(tmp_path: Path):
+    from lowerlimb.io.trial import PartialMagnetometerWarning
+
+    path = _write_variant(tmp_path, lambda acc, gyr: None)
+    lines = path.read_text().splitlines()
+    mag = ",pelvis_mag_x,pelvis_mag_y,pelvis_mag_z"
+    lines = [lines[0] + mag] + [r + ",20.0,0.0,-40.0" for r in lines[1:]]
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.warns(PartialMagnetometerWarning, match="for pelvis but not for left_thigh"):
+        assert BilateralTrial.from_csv(path).mag is None
+
+
 def test_quoted_numbers_are_numbers(tmp_path: Path):
     path = _write_variant(tmp_path, lambda acc, gyr: None)
     lines = path.read_text().splitlines()

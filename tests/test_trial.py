@@ -9,7 +9,7 @@ from lowerlimb.errors import (
     TooShortError,
     UnitError,
 )
-from lowerlimb.io.trial import ImuTrial, StandingStartWarning
+from lowerlimb.io.trial import ImuTrial, PartialMagnetometerWarning, StandingStartWarning
 
 
 def _trial():
@@ -163,3 +163,19 @@ def test_from_sample_refuses_an_index_outside_the_recording(bad):
     trial = _trial()
     with pytest.raises(InputError, match="from_sample needs a sample index"):
         trial.from_sample(bad)
+
+
+def test_magnetometer_of_some_sensors_only_is_said_and_not_used(tmp_path):
+    def drop_foot_mag(h, d):
+        idx = [h.index(f"foot_mag_{a}") for a in "xyz"]
+        return [x for i, x in enumerate(h) if i not in idx], np.delete(d, idx, axis=1)
+
+    path = _write(tmp_path, _trial(), drop_foot_mag)
+    with pytest.warns(PartialMagnetometerWarning, match="for pelvis, thigh, shank but not for foot"):
+        back = ImuTrial.from_csv(path)
+    assert back.mag is None
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # all or none: no warning
+        assert ImuTrial.from_csv(_write(tmp_path, _trial())).mag is not None

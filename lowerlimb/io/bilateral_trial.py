@@ -31,6 +31,7 @@ from .trial import (
     check_distinct_sensors,
     check_unique_columns,
     column_names,
+    has_all_mag,
     read_numbers,
 )
 
@@ -207,7 +208,7 @@ class BilateralTrial(TimeAxis):
 
         acc = {s: block(s, "acc") for s in TWO_LEG_SENSORS}
         gyr = {s: block(s, "gyr") for s in TWO_LEG_SENSORS}
-        has_mag = all(n in col for s in TWO_LEG_SENSORS for n in column_names(s, "mag"))
+        has_mag = has_all_mag(header, TWO_LEG_SENSORS)
         mag = {s: block(s, "mag") for s in TWO_LEG_SENSORS} if has_mag else None
         trial = cls(raw[:, col["time"]].copy(), acc, gyr, mag, source=path)
         trial.validate()

@@ -91,9 +91,32 @@ class StandingStartWarning(UserWarning):
     """The trial does not start with ≥ 1 s standing still; the first second is the reference."""
 
 
+class PartialMagnetometerWarning(UserWarning):
+    """Some sensors have magnetometer columns and some do not: none is used (6-axis)."""
+
+
 def column_names(sensor: str, signal: str) -> list[str]:
     """The three CSV column names of one signal, e.g. ``thigh_gyr_x..z``."""
     return [f"{sensor}_{signal}_{a}" for a in "xyz"]
+
+
+def has_all_mag(header: list[str], sensors: tuple[str, ...] | list[str]) -> bool:
+    """Whether every sensor has its three magnetometer columns; warn when only some have.
+
+    Warns:
+        PartialMagnetometerWarning: some sensors, not all, have magnetometer columns.
+    """
+    present = [s for s in sensors if all(n in header for n in column_names(s, "mag"))]
+    if present and len(present) < len(sensors):
+        missing = [s for s in sensors if s not in present]
+        warnings.warn(
+            f"magnetometer columns for {', '.join(present)} but not for {', '.join(missing)}; "
+            f"the orientation filters need every sensor's field, so none is used (6-axis); "
+            f"export the magnetometer of all sensors for 9-axis fusion",
+            PartialMagnetometerWarning,
+            stacklevel=3,
+        )
+    return len(present) == len(sensors)
 
 
 @dataclass
@@ -313,7 +336,7 @@ class ImuTrial(TimeAxis):
         names = ["time"]
         for s in SENSORS:
             names += column_names(s, "acc") + column_names(s, "gyr")
-        has_mag = use_mag and all(n in col for s in SENSORS for n in column_names(s, "mag"))
+        has_mag = use_mag and has_all_mag(header, SENSORS)
         if has_mag:
             names += [n for s in SENSORS for n in column_names(s, "mag")]
         for n in names:
