@@ -60,8 +60,10 @@ def _traj(foot, params=None):
 @pytest.mark.parametrize("bias", [(0.0, 0.0, 0.0), (0.05, -0.03, 0.02)])
 def test_zupt_recovers_stride_lengths(bias):
     foot = _foot(1.0, L, 0.0, 5, bias)
-    # gravity from params: with a biased accelerometer the measured norm is not g
-    tr = _traj(foot, GaitParams(gravity_mps2=G))
+    # gravity from params: with a biased accelerometer the measured norm is not g. The
+    # orientation here is exact, not a filter's: levelling it on the biased accelerometer would
+    # tilt it by the bias (a filter's tilt follows the accelerometer anyway), so it is off
+    tr = _traj(foot, GaitParams(gravity_mps2=G, level_at_stance=not any(bias)))
     ic, contacts = foot[3], foot[5]
     rest = tr.position_m[np.round(ic * RATE).astype(int) + 5]
     # trapezoidal integration of a 48-sample swing costs ~0.15 % of each stride
@@ -231,3 +233,32 @@ def test_walking_direction_near_an_anchor_after_a_turn():
         time_s=np.zeros(1), position_m=np.zeros((1, 3)), R_earth_sensor=np.eye(3)[None], period=np.zeros(1)
     )
     assert walking_direction(none, 0.0) is None
+
+
+def test_tilt_is_levelled_at_each_stance_and_heading_kept():
+    """A tilt error growing with time (a filter lagging a gyro bias) is removed where the foot
+    stands and, linear in time, in between; a heading error is not the accelerometer's to fix."""
+    from lowerlimb.conventions import quat_from_rotvec, quat_multiply, quat_rotate
+    from lowerlimb.gait.trajectory import levelled_at_stance
+
+    n = 1000
+    t = np.arange(n) / RATE
+    f = np.tile([0.0, 0.0, G], (n, 1))  # the true orientation is the identity
+    mask = (t % 1.0) < 0.4  # stance 0.4 s of every second
+    st = detect_stationary(np.zeros((n, 3)), f, RATE)
+    st = type(st)(mask, [(a, b) for a, b in _runs(mask)], st.statistic, st.gravity_mps2, RATE)
+    tilt = np.column_stack([0.02 * t, -0.01 * t, np.zeros(n)])  # rad, up to 11° and 6°
+    yaw = quat_from_rotvec(np.column_stack([np.zeros(n), np.zeros(n), np.full(n, 0.3)]))
+    q = quat_multiply(quat_from_rotvec(tilt), yaw)
+    fixed = levelled_at_stance(q, f, st)
+    up = quat_rotate(fixed, f) / G
+    inside = (t >= 0.2) & (t <= 9.2)  # between the first and the last stance's middle (held outside)
+    assert np.degrees(np.arccos(np.clip(up[inside, 2], -1, 1))).max() < 0.05
+    x = quat_rotate(fixed, np.tile([1.0, 0.0, 0.0], (n, 1)))
+    assert np.allclose(np.arctan2(x[:, 1], x[:, 0]), 0.3, atol=2e-3)
+    assert np.array_equal(levelled_at_stance(q, f, type(st)(np.zeros(n, bool), [], st.statistic, G, RATE)), q)
+
+
+def _runs(mask):
+    d = np.diff(np.r_[0, mask.astype(int), 0])
+    return zip(np.flatnonzero(d == 1), np.flatnonzero(d == -1), strict=True)

@@ -62,6 +62,9 @@ class GaitParams:
         unloading_min_mps2: The unloading counts only when the magnitude falls at least
             this far below that peak (about a third of g; on the real walk of ``gait/``
             it falls 10-17 m/s²), else toe-off comes from the shank, m/s².
+        level_at_stance: Pin the foot's tilt to gravity at every stationary period before
+            the strapdown (:func:`~lowerlimb.gait.trajectory.levelled_at_stance`): the still
+            foot's accelerometer reads gravity alone, where the filter's tilt lags a gyro bias.
         walking_gyro_rps: A sample counts as walking for the principal-axis fit when
             the smoothed shank gyro norm exceeds this, rad/s.
         shoe_window_s: Window of the SHOE detector (Skog et al. 2010, eq. 8), s.
@@ -127,6 +130,7 @@ class GaitParams:
     ic_refine_s: float = 0.04
     unloading_lowpass_hz: float = 50.0
     unloading_min_mps2: float = 3.0
+    level_at_stance: bool = True
     min_event_rate_hz: float | None = 100.0
     walking_gyro_rps: float = 1.0
     shoe_window_s: float = 0.05

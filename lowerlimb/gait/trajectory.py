@@ -11,7 +11,13 @@ where every moving interval between two stationary periods starts from
 v = 0 and its velocity is de-drifted linearly so that it ends at v = 0 too:
 ``v(t) ← v(t) − v(t_end) (t − t_start)/(t_end − t_start)`` (a constant
 acceleration error over the swing). Velocity is zero during stationary
-periods, so the position is constant there. Choices left open: trapezoidal
+periods, so the position is constant there. Before integrating, the orientation's
+tilt is pinned to gravity at every stationary period (:func:`levelled_at_stance`,
+``GaitParams.level_at_stance``): on the real walk of ``gait/`` the median stride length
+error against Vicon went from 1.3 to 0.8 % (cut so that no still period gives the gyro
+bias: 1.8–3.1 → 0.8–1.3 %), the step width from 16.5 to 12.6 mm median; the worst stride
+from 3.4 to 3.9 %; simulated walks unchanged (cut ones: worst stride 1.3–2.0 → 1.1–1.3 %).
+Choices left open: trapezoidal
 integration; an interval with no stationary period after it (end of the
 recording) is integrated without de-drifting; g defaults to the stationary
 detector's measured gravity.
@@ -24,12 +30,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from lowerlimb.conventions import FloatArray, quat_rotate
+from lowerlimb.conventions import FloatArray, quat_from_rotvec, quat_multiply, quat_rotate
 from lowerlimb.gait._signal import as_signal
 from lowerlimb.gait.params import GaitParams
 from lowerlimb.gait.stationary import StationaryPeriods
 
-__all__ = ["FootTrajectory", "integrate_foot"]
+__all__ = ["FootTrajectory", "integrate_foot", "levelled_at_stance"]
 
 
 @dataclass(frozen=True)
@@ -95,6 +101,8 @@ def integrate_foot(
         q = estimate_orientation(w, f, rate_hz=rate_hz, method="mahony")
     else:
         q = np.asarray(quat_wxyz, dtype=float)
+    if p.level_at_stance:
+        q = levelled_at_stance(q, f, stationary)
     g = p.gravity_mps2 if p.gravity_mps2 is not None else stationary.gravity_mps2
     a = quat_rotate(q, f) - np.array([0.0, 0.0, g])
     dt = 1.0 / rate_hz
@@ -129,3 +137,41 @@ def integrate_foot(
         rate_hz=rate_hz,
         drift_mps=np.asarray(drifts, dtype=float),
     )
+
+
+def levelled_at_stance(quat_wxyz: ArrayLike, acc: ArrayLike, stationary: StationaryPeriods) -> FloatArray:
+    """The orientation with its tilt pinned to gravity at every stationary period.
+
+    A still foot's accelerometer reads gravity alone, so at each stationary period the
+    earth-frame direction of its mean specific force must be +z. The small rotation that
+    makes it so is found at each period's middle, interpolated linearly between periods
+    (held before the first and after the last), and applied in the earth frame:
+    ``q ← exp(δ(t)) ⊗ q``. A filter's tilt lags a gyro bias by a constant offset (about
+    bias / gain for a proportional correction); this removes it where the foot says
+    where "up" is.
+
+    Args:
+        quat_wxyz: (N, 4) sensor → earth orientation.
+        acc: (N, 3) specific force, sensor frame, m/s².
+        stationary: the zero-velocity periods.
+
+    Returns:
+        (N, 4) the corrected orientation (the input when there is no stationary period).
+    """
+    q = np.asarray(quat_wxyz, dtype=float)
+    runs = [(a, b) for a, b in stationary.runs if b > a]
+    if not runs:
+        return q
+    f = np.asarray(acc, dtype=float)
+    mids, vecs = [], []
+    for a, b in runs:
+        up = quat_rotate(q[a:b], f[a:b]).mean(axis=0)
+        up /= np.linalg.norm(up)
+        axis = np.cross(up, [0.0, 0.0, 1.0])
+        s = np.linalg.norm(axis)
+        angle = np.arctan2(s, up[2])
+        vecs.append(axis / s * angle if s > 1e-12 else np.zeros(3))
+        mids.append(0.5 * (a + b - 1))
+    t = np.arange(q.shape[0])
+    delta = np.column_stack([np.interp(t, mids, np.asarray(vecs)[:, k]) for k in range(3)])
+    return np.asarray(quat_multiply(quat_from_rotvec(delta), q), dtype=float)
