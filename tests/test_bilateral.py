@@ -338,3 +338,19 @@ def test_a_walk_too_short_for_a_cadence_still_writes_its_report(tmp_path: Path):
     gait = json.loads((tmp_path / "o" / "gait.json").read_text())
     assert gait["cadence_steps_per_min"] is None
     assert "cadence" not in (tmp_path / "o" / "report.html").read_text().split("<h2>")[0]
+
+
+def test_an_inverted_accelerometer_sign_is_named_among_the_causes():
+    """Every accelerometer negated (−9.81 along up at rest) mirrors the joint centres: the
+    hips come out on the wrong sides, and the message names that cause too."""
+    import warnings
+
+    from lowerlimb.bilateral import process_bilateral_trial
+    from lowerlimb.bilateral.process import BilateralSideError
+
+    t = simulate_two_legs().trial
+    flipped = BilateralTrial(t.time_s, {k: -v for k, v in t.acc.items()}, t.gyr, t.mag)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(BilateralSideError, match="-9.81 along up at rest.*negate the acc columns"):
+            process_bilateral_trial(flipped)

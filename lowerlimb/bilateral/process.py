@@ -261,7 +261,9 @@ def _check_pair_sides(
         err.args = (
             f"the left_* and right_* sensors look swapped: the calibrated right hip centre lies "
             f"{abs(pair.lateral_m) * 100:.1f} cm to the left of the left one; exchange the left_* and "
-            f"right_* columns (or pass --no-side-check if the pelvis sensor moved during the standing start)",
+            f"right_* columns (an accelerometer sign that reads -9.81 along up at rest mirrors the centres "
+            f"too: negate the acc columns; or pass --no-side-check if the pelvis sensor moved during the "
+            f"standing start)",
         )
         raise err
 
