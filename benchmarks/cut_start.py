@@ -191,7 +191,6 @@ def markdown(res: dict[str, Any]) -> str:
         "has no standing start: no gyro bias is removed, the first second is the angle reference",
         "(one `StandingStartWarning`), the orientation filters are warm-started, and the feet are not",
         "anchored to each other (one `UnanchoredFeetWarning`; step length and width `null`).",
-        "(step width `null`).",
         "",
         "## Simulated (seeds 201–206, 60 s, 100 Hz; cut at the middle of the first right swing after 5 s)",
         "",

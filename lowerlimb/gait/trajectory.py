@@ -14,9 +14,10 @@ acceleration error over the swing). Velocity is zero during stationary
 periods, so the position is constant there. Before integrating, the orientation's
 tilt is pinned to gravity at every stationary period (:func:`levelled_at_stance`,
 ``GaitParams.level_at_stance``): on the real walk of ``gait/`` the median stride length
-error against Vicon went from 1.3 to 0.8 % (cut so that no still period gives the gyro
-bias: 1.8–3.1 → 0.8–1.3 %), the step width from 16.5 to 12.6 mm median; the worst stride
-from 3.4 to 3.9 %; simulated walks unchanged (cut ones: worst stride 1.3–2.0 → 1.1–1.3 %).
+error against Vicon went from 1.3 to 0.8 % (cut after walking begins: 1.8–2.5 → 0.8–1.3 %;
+cut so that no still period gives the gyro bias: 2.9–3.1 → 0.8–1.0 %), the step width from
+16.5 to 12.6 mm median; the worst stride from 3.4 to 3.9 %; simulated walks 0.7 → 0.8 %
+median (cut ones: worst stride 1.3–2.0 → 1.1–1.3 %).
 Choices left open: trapezoidal
 integration; an interval with no stationary period after it (end of the
 recording) is integrated without de-drifting; g defaults to the stationary

@@ -479,27 +479,30 @@ def read_numbers(path: str, header: list[str], usecols: list[int]) -> FloatArray
                     f"{path} data row {row_no} has {len(row)} values but the header names "
                     f"{len(header)} columns; fix the CSV"
                 )
-            for c in usecols:
-                cell = row[c].strip()
-                try:
-                    float(cell)
-                except ValueError:
-                    if not cell:
-                        raise InputError(
-                            f"column '{header[c]}' is empty at data row {row_no}; fill or cut the gap "
-                            f"before calibrating"
-                        ) from None
-                    if "," in cell or _is_comma_decimal(cell):
-                        raise InputError(
-                            f"column '{header[c]}' holds {cell!r} at data row {row_no}: a comma as decimal "
-                            f"mark; save the CSV with '.' as the decimal mark"
-                        ) from None
-                    raise InputError(
-                        f"column '{header[c]}' holds the text {cell[:40]!r} at data row {row_no}, not a "
-                        f"number; every cell of a trial must be a number"
-                    ) from None
-            rows.append([float(row[c]) for c in usecols])
+            rows.append([_cell_value(row[c], header[c], row_no) for c in usecols])
     return np.asarray(rows, dtype=float).reshape(-1, len(usecols))
+
+
+def _cell_value(raw: str, column: str, row_no: int) -> float:
+    """One cell as a number, or an :class:`InputError` naming why it is not one."""
+    cell = raw.strip()
+    try:
+        return float(cell)
+    except ValueError:
+        pass
+    if not cell:
+        raise InputError(
+            f"column '{column}' is empty at data row {row_no}; fill or cut the gap before calibrating"
+        )
+    if "," in cell or _is_comma_decimal(cell):
+        raise InputError(
+            f"column '{column}' holds {cell!r} at data row {row_no}: a comma as decimal "
+            f"mark; save the CSV with '.' as the decimal mark"
+        )
+    raise InputError(
+        f"column '{column}' holds the text {cell[:40]!r} at data row {row_no}, not a "
+        f"number; every cell of a trial must be a number"
+    )
 
 
 def _is_comma_decimal(cell: str) -> bool:
