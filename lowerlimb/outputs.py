@@ -254,6 +254,8 @@ class CalibrateOptions:
         s2j: a fitted S2J model (``s2j.json``) instead of the constant vectors.
         side_check: refuse a trial whose calibrated hip is on the other side.
         order_check: refuse a trial whose sensor columns look swapped.
+        sign_check: refuse a trial in which a sensor turns about the vertical against its
+            neighbours (an inverted accelerometer or gyro sign).
         clock_sync: estimate the sensors' clock offsets from the joints and re-time the
             signals when they are offset (:mod:`lowerlimb.calibration.clock_sync`).
         centre_form: the form of the joint constraint that decides the hip and knee centres
@@ -278,6 +280,7 @@ class CalibrateOptions:
     s2j: Path | None = None
     side_check: bool = True
     order_check: bool = True
+    sign_check: bool = True
     clock_sync: bool = True
     centre_form: str = "norm"
     hip_in_pelvis_form: str = "aligned"
@@ -289,6 +292,7 @@ class CalibrateOptions:
         """The joint-calibration options these command-line options choose (one and two legs)."""
         return CalibrationOptions(
             check_sensor_order=self.order_check,
+            check_signs=self.sign_check,
             clock_sync=self.clock_sync,
             centre_form=self.centre_form,
             hip_in_pelvis_form=self.hip_in_pelvis_form,

@@ -38,6 +38,7 @@ from .model.fallback import with_plausible_lengths
 from .model.leg_model import LegModel
 from .orientation import estimate_orientation
 from .orientation.magnetic import check_magnetic_field
+from .orientation.sign_check import InvertedSignError, chain_sign_check
 from .s2j import S2JModel, constant_s2j_from_calibration
 from .segments.tracking import SegmentMotion, track_segments
 from .stillness import StillPeriod, gyro_bias
@@ -52,6 +53,10 @@ __all__ = [
     "estimate_orientations",
     "process_trial",
 ]
+
+
+#: Neighbouring sensors of one leg, proximal first (the sign check's chain).
+_CHAIN_EDGES: tuple[tuple[str, str], ...] = tuple(zip(SENSORS[:-1], SENSORS[1:], strict=True))
 
 
 class MagneticDisturbanceWarning(UserWarning):
@@ -353,8 +358,13 @@ def process_trial(
     )
     clock.stop("orientation filters")
 
-    clock.start()
     gyr = {s: trial.gyr[s] - calib.gyro_bias.get(s, np.zeros(3)) for s in SENSORS}
+    if cal_options.check_signs:
+        signs = chain_sign_check(orientations.quat_wxyz, gyr, _CHAIN_EDGES, trial.rate_hz)
+        if signs.inverted:
+            raise InvertedSignError(signs)
+
+    clock.start()
     motion = track_segments(
         orientations.quat_wxyz,
         trial.acc,

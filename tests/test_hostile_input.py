@@ -106,6 +106,27 @@ def test_an_accelerometer_in_mm_per_s2_is_a_unit_not_a_glitch(files, tmp_path, c
     assert "shank accelerometer median magnitude" in err and "expects m/s²" in err
 
 
+@pytest.mark.parametrize(
+    ("sensor", "message"),
+    [
+        ("shank", "the shank turns about the vertical against the neighbouring segments"),
+        ("pelvis", "a pelvis accelerometer that reads -9.81 along up at rest mirrors the hip too"),
+    ],
+)
+def test_a_negated_accelerometer_is_named(files, tmp_path, capsys, sensor, message):
+    """It was calibrated silently: hip or ankle rotation 40-80° off (an iOS-style sign)."""
+    data = files["data"].copy()
+    k = files["header"].index(f"{sensor}_acc_x")
+    data[:, k : k + 3] *= -1.0
+    out = tmp_path / "out"
+    trial = save(tmp_path / "neg.csv", files["header"], data)
+    assert main(["calibrate", str(trial), "--out", str(out)]) == 2
+    err = capsys.readouterr().err  # found after the filters: the progress lines come first
+    last = err.splitlines()[-1]
+    assert last.startswith("lowerlimb: error: ") and message in last and "Traceback" not in err
+    assert not out.exists()
+
+
 @pytest.mark.parametrize("kind", ["constant", "still"])
 def test_trial_with_no_motion_is_refused(files, tmp_path, capsys, kind):
     data = files["data"]

@@ -88,6 +88,9 @@ class CalibrationOptions:
             from a mid-thigh sensor).
         check_sensor_order: refuse a trial whose thigh/shank or shank/foot columns
             look swapped (:mod:`~lowerlimb.calibration.plausibility`).
+        check_signs: refuse a trial in which a sensor turns about the vertical against
+            its neighbours, the sign of an accelerometer or gyro inverted
+            (:mod:`~lowerlimb.orientation.sign_check`; checked after the orientation filters).
         max_iter: iteration limit of the Gauss–Newton solvers.
         tol: convergence tolerance of the Gauss–Newton solvers (relative step).
         sign_raw_window_s: the overall hinge sign's test on the angle from the standing start
@@ -269,6 +272,7 @@ class CalibrationOptions:
     still_end_min_s: float | None = 1.0
     center_bound_m: float = 0.4
     check_sensor_order: bool = True
+    check_signs: bool = True
     max_iter: int = 50
     tol: float = 1e-7
     hinge_gravity_rate_rps: float = 0.0

@@ -122,7 +122,9 @@ class WrongSideError(InputError):
         super().__init__(
             f"this looks like a {other} leg, not {side}: the calibrated hip centre lies "
             f"{abs(lateral_m) * 100:.1f} cm to the {where} of the pelvis sensor; rerun with "
-            f"--side {other} (or pass --no-side-check if the pelvis sensor is not on the sacrum)"
+            f"--side {other} (a pelvis accelerometer that reads -9.81 along up at rest mirrors the "
+            f"hip too: negate its acc columns; or pass --no-side-check if the pelvis sensor is not "
+            f"on the sacrum)"
         )
 
 

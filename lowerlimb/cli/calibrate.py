@@ -67,6 +67,12 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         help="do not refuse a trial whose thigh/shank or shank/foot columns look swapped",
     )
     p.add_argument(
+        "--no-sign-check",
+        action="store_true",
+        help="do not refuse a trial in which a sensor turns about the vertical against its "
+        "neighbours (the sign of its accelerometer or gyro inverted)",
+    )
+    p.add_argument(
         "--no-clock-sync",
         action="store_true",
         help="do not estimate the sensors' clock offsets from the joints (by default, offsets that "
@@ -131,6 +137,7 @@ def run(args: argparse.Namespace) -> int:
         s2j=args.s2j,
         side_check=not args.no_side_check,
         order_check=not args.no_order_check,
+        sign_check=not args.no_sign_check,
         clock_sync=not args.no_clock_sync,
         centre_form=args.centre_form,
         hip_in_pelvis_form=args.hip_in_pelvis_form,

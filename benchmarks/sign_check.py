@@ -1,0 +1,181 @@
+"""An accelerometer or gyro read with the opposite sign: is it refused, and is a good trial never?
+
+One sensor's ``acc_*`` (or ``gyr_*``) columns are negated, every sensor in turn, and the
+trial goes through the pipeline (``lowerlimb.orientation.sign_check`` is on by default):
+
+- simulated two-leg walks (``simulate_bilateral`` seeds 201–206, 60 s, rigid and with the
+  real-walk artefact profile), 6-axis;
+- simulated one-leg motions (walk, squat, half-squat, knee-lift, sit-to-stand, mixed;
+  seeds 1–2, 40 s, rigid and with artefacts);
+- the real walk of ``gait/`` (Xsens, both legs, 6-axis).
+
+Each cell says what happened: ``sign`` (refused by the sign check, naming that sensor),
+``sign?`` (refused by it, naming another sensor or two), ``other`` (refused for another
+reason: the wrong side, swapped columns, …), ``accepted`` (exit 0: a silent wrong result).
+For the unmodified trials, anything but ``accepted`` is a false refusal.
+
+Usage: ``python benchmarks/sign_check.py [--data DIR] [--out DIR]``; writes
+``benchmarks/results/sign_check.{md,json}``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import sys
+import tempfile
+import warnings
+from collections import Counter
+from pathlib import Path
+from typing import Any
+
+from lowerlimb.bilateral import process_bilateral_trial
+from lowerlimb.io.bilateral_trial import BilateralTrial
+from lowerlimb.orientation.sign_check import InvertedSignError
+from lowerlimb.pipeline import process_trial
+from lowerlimb.simulation import Artefacts, simulate, simulate_bilateral
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import bilateral_gait as BG  # noqa: E402
+from _realwalk import raw_dir  # noqa: E402
+from _results import write_results  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+SEEDS = (201, 202, 203, 204, 205, 206)
+MOTIONS = ("walk", "squat", "half-squat", "knee-lift", "sit-to-stand", "mixed")
+SIGNALS = ("acc", "gyr")
+
+
+def _outcome(run: Any, sensor: str | None) -> str:
+    """What the pipeline did with the trial (module docstring's cells)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            run()
+        except InvertedSignError as e:
+            return "sign" if sensor is not None and e.sensors == (sensor.split("_")[-1],) else "sign?"
+        except Exception as e:  # noqa: BLE001 — a refusal is a result here
+            if isinstance(e.__cause__ or e.__context__, InvertedSignError) or "about the vertical" in str(e):
+                named = str(e).split(": the ", 1)[-1].split(" turn", 1)[0]
+                same = sensor is not None and named == sensor.split("_", 1)[-1]
+                same = same and (sensor == "pelvis" or str(e).startswith(str(sensor).split("_")[0]))
+                return "sign" if same else "sign?"
+            return "other"
+    return "accepted"
+
+
+def _negated(values: dict[str, Any], sensor: str | None) -> dict[str, Any]:
+    return {s: (-v if s == sensor else v) for s, v in values.items()}
+
+
+def _two_leg_rows(trial: BilateralTrial, tag: str, **kw: Any) -> list[dict[str, Any]]:
+    rows = [
+        {
+            "trial": tag,
+            "sensor": "-",
+            "signal": "-",
+            "outcome": _outcome(lambda: process_bilateral_trial(trial, **kw), None),
+        }
+    ]
+    for signal in SIGNALS:
+        for sensor in trial.acc:
+            t2 = BilateralTrial(
+                trial.time_s,
+                _negated(trial.acc, sensor if signal == "acc" else None),
+                _negated(trial.gyr, sensor if signal == "gyr" else None),
+            )
+            outcome = _outcome(lambda t2=t2: process_bilateral_trial(t2, **kw), sensor)
+            rows.append({"trial": tag, "sensor": sensor, "signal": signal, "outcome": outcome})
+    return rows
+
+
+def _one_leg_rows(trial: Any, tag: str) -> list[dict[str, Any]]:
+    rows = [
+        {"trial": tag, "sensor": "-", "signal": "-", "outcome": _outcome(lambda: process_trial(trial), None)}
+    ]
+    for signal in SIGNALS:
+        for sensor in trial.acc:
+            t2 = dataclasses.replace(trial, **{signal: _negated(getattr(trial, signal), sensor)})
+            rows.append(
+                {
+                    "trial": tag,
+                    "sensor": sensor,
+                    "signal": signal,
+                    "outcome": _outcome(lambda t2=t2: process_trial(t2), sensor),
+                }
+            )
+    return rows
+
+
+def simulated_two_legs(seeds: tuple[int, ...]) -> list[dict[str, Any]]:
+    rows: list[dict[str, Any]] = []
+    for art in (None, Artefacts.real_walk()):
+        for seed in seeds:
+            sim = simulate_bilateral(60.0, seed, artefacts=art)
+            rows += _two_leg_rows(sim.trial, f"{seed}{' artefacts' if art else ''}")
+    return rows
+
+
+def simulated_one_leg() -> list[dict[str, Any]]:
+    rows: list[dict[str, Any]] = []
+    for motion in MOTIONS:
+        for art in (None, Artefacts.real_walk()):
+            for seed in (1, 2):
+                sim = simulate(motion, duration_s=40.0, seed=seed, artefacts=art)
+                rows += _one_leg_rows(sim.trial, f"{motion} {seed}{' artefacts' if art else ''}")
+    return rows
+
+
+def real(data: Path) -> list[dict[str, Any]]:
+    if not (raw_dir(data)).is_dir():
+        return []
+    csv = Path(tempfile.mkdtemp()) / "walk.csv"
+    BG.load_xsens(raw_dir(data), BG.IDS).to_csv(csv)
+    return _two_leg_rows(BilateralTrial.from_csv(csv), "real walk", use_mag=False)
+
+
+def _table(rows: list[dict[str, Any]]) -> list[str]:
+    """Per signal and sensor, the outcomes' counts over the trials; then the unmodified trials."""
+    L = ["| negated | sensor | sign | sign? | other | accepted |", "|---|---|---|---|---|---|"]
+    keys = list(dict.fromkeys((r["signal"], r["sensor"]) for r in rows if r["sensor"] != "-"))
+    for signal, sensor in keys:
+        c = Counter(r["outcome"] for r in rows if (r["signal"], r["sensor"]) == (signal, sensor))
+        L.append(f"| {signal} | {sensor} | {c['sign']} | {c['sign?']} | {c['other']} | {c['accepted']} |")
+    c = Counter(r["outcome"] for r in rows if r["sensor"] == "-")
+    L.append(f"| nothing | (false refusals) | {c['sign']} | {c['sign?']} | {c['other']} | {c['accepted']} |")
+    return L
+
+
+def markdown(res: dict[str, list[dict[str, Any]]]) -> str:
+    L = [
+        "# Inverted accelerometer and gyro signs",
+        "",
+        "Generated by `benchmarks/sign_check.py`. One sensor's accelerometer (or gyro) columns",
+        "negated, every sensor in turn. `sign`: refused by the sign check naming that sensor;",
+        "`sign?`: refused by it naming another or two; `other`: refused for another reason;",
+        "`accepted`: calibrated (a silent wrong result). The last row counts the unmodified",
+        "trials, where anything but `accepted` is a false refusal.",
+        "",
+    ]
+    titles = {
+        "real": "Real walk (`gait/`, both legs, 6-axis; one turn between two passes)",
+        "two_legs": "Simulated two-leg walks (seeds 201–206, 60 s, straight; rigid and with artefacts)",
+        "one_leg": "Simulated one-leg motions (6 motions × seeds 1–2 × rigid / artefacts, 40 s)",
+    }
+    for key, title in titles.items():
+        if res.get(key):
+            L += [f"## {title}", "", *_table(res[key]), ""]
+    return "\n".join(L)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
+    ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
+    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
+    args = ap.parse_args()
+    res = {"real": real(args.data), "two_legs": simulated_two_legs(SEEDS), "one_leg": simulated_one_leg()}
+    write_results(args.out, "sign_check", res, markdown(res))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,212 @@
+"""Does each sensor's accelerometer agree in sign with its gyro? Neighbours turn together.
+
+An accelerometer read with the opposite sign (−9.81 m/s² along up at rest: some devices
+report the acceleration of the case rather than the specific force) passes every other
+check of a trial. Its gravity still turns the way its gyro says (``−f`` rotates like
+``f``), the norm form of the joint constraint cannot tell ``|−f + Kc|`` from ``|f − Kc|``
+(the centre comes out mirrored), and the vertical component of a joint's acceleration is
+the same either way. A seven-IMU walk simulated with the pelvis's accelerometer negated
+was calibrated without a warning, and its hip rotation came out 82° off on average.
+
+What such a sensor gets wrong is *up*: its orientation filter turns the world upside
+down about a horizontal axis to put the gravity it reads on +z. The sensor's rate about
+the vertical, ``ω_z = (R ω)_z``, then changes sign, while its neighbours' do not. Along
+the leg, adjacent segments turn about the vertical together (the joints rotate little
+about it, and a walk's turns carry the whole chain), so the low-passed vertical rates of
+neighbours correlate positively (measured over each whole trial: 0.79–0.98 on the real
+walk of ``gait/``, which turns once; 0.4–1.0 on the simulator's one-leg motions, rigid
+or with its real-walk artefacts), and a negated accelerometer makes its edges negative
+(−0.8 … −0.98 on the real walk). Straight simulated two-leg walks turn too little for a
+verdict: their pelvis–thigh and shank–foot correlations lie between −0.4 and +0.8
+whether or not a sign is inverted, and a correlation that weak decides nothing
+(:attr:`SignCheckParams.min_abs_correlation`). A gyro read with the opposite sign turns
+the same correlations negative too (not always beyond the threshold), so the error
+names both signals.
+
+The chain's edges that decide (``|r| ≥ min_abs_correlation``) are satisfied by the
+fewest sensors whose sign is inverted; a sensor is named when that set is unique, and
+the two sensors of a lone negative edge otherwise.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.signal import butter, sosfiltfilt
+
+from lowerlimb.conventions import FloatArray, quat_rotate
+from lowerlimb.errors import InputError
+
+__all__ = ["InvertedSignError", "SignCheck", "SignCheckParams", "chain_sign_check", "vertical_rate"]
+
+
+@dataclass(frozen=True)
+class SignCheckParams:
+    """Thresholds of the sign check.
+
+    Attributes:
+        lowpass_hz: low-pass cut-off of the vertical rates, Hz (a stride's turning is
+            about 1 Hz; impacts and filter noise lie above).
+        min_abs_correlation: an edge decides when its correlation is at least this far
+            from zero (normal data: ≥ −0.4 on straight simulated walks with artefacts;
+            a negated sensor on the real walk: ≤ −0.79).
+        min_rms_rate_rps: both sensors of an edge must turn about the vertical at least
+            this much (RMS of the low-passed rate), rad/s; a trial without turning
+            decides nothing.
+    """
+
+    lowpass_hz: float = 2.0
+    min_abs_correlation: float = 0.6
+    min_rms_rate_rps: float = 0.05
+
+
+@dataclass(frozen=True)
+class SignCheck:
+    """The chain's verdict.
+
+    Attributes:
+        edges: ``(sensor, sensor)`` neighbour pairs, proximal first.
+        correlation: (E,) correlation of each pair's low-passed vertical rates, NaN when
+            a sensor barely turns about the vertical.
+        decides: (E,) whether each edge's correlation is strong enough to decide.
+        inverted: sensors whose sign is inverted (the fewest that explain the deciding
+            edges); empty when every deciding edge is positive.
+        ambiguous: the inverted set is one of two equally small ones (the sensors named
+            are the two ends of the first negative edge).
+    """
+
+    edges: tuple[tuple[str, str], ...]
+    correlation: FloatArray
+    decides: tuple[bool, ...]
+    inverted: tuple[str, ...]
+    ambiguous: bool
+
+    def to_dict(self) -> dict[str, object]:
+        """The verdict as JSON-ready values (correlations ``None`` when undecided)."""
+        return {
+            "vertical_rate_correlation": {
+                f"{a}-{b}": None if not np.isfinite(r) else float(r)
+                for (a, b), r in zip(self.edges, self.correlation, strict=True)
+            },
+            "inverted": list(self.inverted),
+        }
+
+
+class InvertedSignError(InputError):
+    """A sensor turns about the vertical against its neighbours; carries the sensors and correlations."""
+
+    def __init__(self, check: SignCheck) -> None:
+        self.check = check
+        self.sensors = check.inverted
+        neg = [
+            f"{a}–{b} {r:+.2f}"
+            for (a, b), r, d in zip(check.edges, check.correlation, check.decides, strict=True)
+            if d and r < 0
+        ]
+        who = " or the ".join(check.inverted) if check.ambiguous else " and the ".join(check.inverted)
+        verb = "turns" if len(check.inverted) == 1 or check.ambiguous else "turn"
+        super().__init__(
+            f"the {who} {verb} about the vertical against the neighbouring segments (correlation of "
+            f"the vertical rates {', '.join(neg)}): its accelerometer or gyro sign is inverted; negate "
+            f"its acc_* columns (a device that reads -9.81 along up at rest) or its gyr_* columns, "
+            f"or pass --no-sign-check if the motion really turns these segments against each other"
+        )
+
+
+def vertical_rate(quat_wxyz: FloatArray, gyr: FloatArray) -> FloatArray:
+    """(N,) angular rate about the earth's vertical, rad/s.
+
+    Args:
+        quat_wxyz: (N, 4) sensor orientations (sensor to earth, z up), ``w, x, y, z``.
+        gyr: (N, 3) angular rate, sensor frame, rad/s.
+    """
+    return np.asarray(quat_rotate(quat_wxyz, gyr)[:, 2], dtype=float)
+
+
+def _edge_correlation(a: FloatArray, b: FloatArray, p: SignCheckParams) -> float:
+    """Correlation of two low-passed vertical rates; NaN when either barely turns."""
+    if min(np.sqrt(np.mean(a**2)), np.sqrt(np.mean(b**2))) < p.min_rms_rate_rps:
+        return float("nan")
+    a, b = a - a.mean(), b - b.mean()
+    den = float(np.sqrt(np.sum(a * a) * np.sum(b * b)))
+    return float(np.sum(a * b) / den) if den > 0 else float("nan")
+
+
+def _fewest_inverted(
+    sensors: Sequence[str], edges: Sequence[tuple[str, str]], sign: Sequence[int]
+) -> tuple[tuple[str, ...], bool]:
+    """The fewest sensors whose inversion explains the deciding edges' signs (±1; 0: undecided).
+
+    Each group of sensors joined by deciding edges gets signs relative to its first
+    sensor; of a group's two assignments the one with fewer inverted sensors is taken.
+    Returns the inverted sensors and whether some group's choice was a tie.
+    """
+    value: dict[str, int] = {}
+    inverted: list[str] = []
+    ambiguous = False
+    for root in sensors:
+        if root in value:
+            continue
+        value[root], group, stack = 1, [root], [root]
+        while stack:
+            s = stack.pop()
+            for (a, b), e in zip(edges, sign, strict=True):
+                if e == 0 or s not in (a, b):
+                    continue
+                other = b if s == a else a
+                if other not in value:
+                    value[other] = value[s] * e
+                    group.append(other)
+                    stack.append(other)
+        neg = [s for s in group if value[s] < 0]
+        pos = [s for s in group if value[s] > 0]
+        if neg and len(neg) == len(pos):
+            ambiguous = True
+            inverted += _first_negative_edge(edges, sign, group)
+        else:
+            inverted += neg if len(neg) < len(pos) else pos
+    return tuple(s for s in sensors if s in inverted), ambiguous
+
+
+def _first_negative_edge(
+    edges: Sequence[tuple[str, str]], sign: Sequence[int], group: list[str]
+) -> list[str]:
+    """The two sensors of the group's first negative deciding edge (a tie names both)."""
+    for (a, b), e in zip(edges, sign, strict=True):
+        if e < 0 and a in group:
+            return [a, b]
+    return []
+
+
+def chain_sign_check(
+    quat_wxyz: Mapping[str, FloatArray],
+    gyr: Mapping[str, FloatArray],
+    edges: Sequence[tuple[str, str]],
+    rate_hz: float,
+    params: SignCheckParams | None = None,
+) -> SignCheck:
+    """Correlate neighbours' vertical rates and name the sensors whose sign is inverted.
+
+    Args:
+        quat_wxyz: ``{sensor: (N, 4)}`` each sensor's filter orientation (its own gravity).
+        gyr: ``{sensor: (N, 3)}`` angular rates, sensor frames, rad/s (bias removed).
+        edges: neighbouring sensor pairs (a chain or a tree).
+        rate_hz: sampling rate, Hz.
+        params: thresholds (defaults when ``None``).
+
+    Returns:
+        The verdict (nothing inverted when no edge decides).
+    """
+    p = params or SignCheckParams()
+    sos = butter(2, min(p.lowpass_hz, 0.45 * rate_hz), fs=rate_hz, output="sos")
+    names = list(dict.fromkeys(s for e in edges for s in e))
+    n = min(len(quat_wxyz[s]) for s in names)
+    if n <= 27:  # too short to filter (sosfiltfilt's padding)
+        return SignCheck(tuple(edges), np.full(len(edges), np.nan), (False,) * len(edges), (), False)
+    v = {s: sosfiltfilt(sos, vertical_rate(quat_wxyz[s][:n], gyr[s][:n])) for s in names}
+    r = np.array([_edge_correlation(v[a], v[b], p) for a, b in edges])
+    sign = [0 if not abs(x) >= p.min_abs_correlation else int(np.sign(x)) for x in r]
+    inverted, ambiguous = _fewest_inverted(names, edges, sign)
+    return SignCheck(tuple(edges), r, tuple(e != 0 for e in sign), inverted, ambiguous)

@@ -1,0 +1,124 @@
+"""An accelerometer (or gyro) read with the opposite sign is refused, by its turning about the vertical."""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+
+import numpy as np
+import pytest
+from simcache import cached_simulation, data_dir, real_walk_leg_mapping
+
+import lowerlimb as ll
+from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.conventions import quat_multiply
+from lowerlimb.errors import InputError
+from lowerlimb.orientation.sign_check import InvertedSignError, chain_sign_check, vertical_rate
+from lowerlimb.simulation import ImuNoise
+
+RATE = 100.0
+CHAIN = (("pelvis", "thigh"), ("thigh", "shank"), ("shank", "foot"))
+FLIP_X = np.array([0.0, 1.0, 0.0, 0.0])  # the earth turned 180° about a horizontal axis
+
+
+def _turning(inverted: tuple[str, ...] = (), still: tuple[str, ...] = (), seconds: float = 20.0):
+    """Sensors turning together about the vertical; ``inverted`` ones see the world upside down."""
+    t = np.arange(0.0, seconds, 1.0 / RATE)
+    rng = np.random.default_rng(0)
+    quat, gyr = {}, {}
+    for s in ("pelvis", "thigh", "shank", "foot", "thigh_r", "shank_r", "foot_r"):
+        amp = 0.0 if s in still else 0.4
+        yaw = amp * np.sin(2 * np.pi * 0.9 * t) + 0.2 * amp * np.sin(2 * np.pi * 0.3 * t + 1.0)
+        rate = np.gradient(yaw, 1.0 / RATE) + 0.02 * rng.standard_normal(len(t))
+        q = np.column_stack([np.cos(yaw / 2), np.zeros_like(t), np.zeros_like(t), np.sin(yaw / 2)])
+        quat[s] = quat_multiply(FLIP_X, q) if s in inverted else q
+        gyr[s] = np.column_stack([np.zeros_like(t), np.zeros_like(t), rate])
+    return quat, gyr
+
+
+def test_vertical_rate_changes_sign_when_up_is_flipped():
+    quat, gyr = _turning(inverted=("foot",))
+    assert np.allclose(vertical_rate(quat["shank"], gyr["shank"]), gyr["shank"][:, 2])
+    assert np.allclose(vertical_rate(quat["foot"], gyr["foot"]), -gyr["foot"][:, 2])
+
+
+def test_consistent_chain_names_nothing():
+    check = chain_sign_check(*_turning(), CHAIN, RATE)
+    assert check.inverted == () and not check.ambiguous
+    assert np.all(check.correlation > 0.9) and all(check.decides)
+
+
+@pytest.mark.parametrize("sensor", ["pelvis", "thigh", "shank", "foot"])
+def test_the_one_inverted_sensor_is_named(sensor):
+    check = chain_sign_check(*_turning(inverted=(sensor,)), CHAIN, RATE)
+    assert check.inverted == (sensor,) and not check.ambiguous
+
+
+def test_a_lone_negative_edge_names_both_of_its_sensors():
+    """Pelvis–thigh negative, the thigh's other neighbour not turning: either could be wrong."""
+    check = chain_sign_check(*_turning(inverted=("thigh",), still=("shank",)), CHAIN, RATE)
+    assert np.isnan(check.correlation[1]) and not check.decides[1]
+    assert check.inverted == ("pelvis", "thigh") and check.ambiguous
+    msg = str(InvertedSignError(check))
+    assert "the pelvis or the thigh turns about the vertical" in msg and "pelvis–thigh -1.00" in msg
+    assert "thigh–shank" not in msg and "\n" not in msg
+
+
+def test_a_trial_that_does_not_turn_decides_nothing():
+    check = chain_sign_check(
+        *_turning(inverted=("foot",), still=("pelvis", "thigh", "shank", "foot")), CHAIN, RATE
+    )
+    assert check.inverted == () and np.all(np.isnan(check.correlation))
+
+
+def test_the_pelvis_of_two_legs_is_one_sensor():
+    tree = CHAIN + (("pelvis", "thigh_r"), ("thigh_r", "shank_r"), ("shank_r", "foot_r"))
+    check = chain_sign_check(*_turning(inverted=("pelvis",)), tree, RATE)
+    assert check.inverted == ("pelvis",)
+    assert check.to_dict()["inverted"] == ["pelvis"]
+
+
+# ---------------------------------------------------------------- through the pipeline
+
+
+def _negated(trial, sensor: str, signal: str = "acc"):
+    values = dict(getattr(trial, signal))
+    values[sensor] = -values[sensor]
+    return dataclasses.replace(trial, **{signal: values})
+
+
+@pytest.fixture(scope="module")
+def walk():
+    return cached_simulation("walk", 20.0, 0, noise=ImuNoise.none()).trial
+
+
+@pytest.mark.parametrize("sensor", ["thigh", "shank", "foot"])
+def test_simulated_walk_with_a_negated_accelerometer_is_refused(walk, sensor):
+    with pytest.raises(InvertedSignError) as e, warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ll.process_trial(_negated(walk, sensor))
+    assert isinstance(e.value, InputError) and e.value.sensors == (sensor,)
+    assert "negate its acc_* columns" in str(e.value)
+
+
+def test_the_check_can_be_switched_off(walk):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ll.process_trial(_negated(walk, "foot"), calibration_options=CalibrationOptions(check_signs=False))
+
+
+@pytest.mark.skipif(data_dir() is None, reason="needs the shared real-data folder")
+@pytest.mark.parametrize(
+    ("side", "sensor", "signal"),
+    [("left", "pelvis", "acc"), ("right", "foot", "acc"), ("right", "thigh", "gyr")],
+)
+def test_real_walk_with_an_inverted_sign_is_refused(side, sensor, signal):
+    """The real walk turns once: its neighbours' vertical rates correlate at 0.79–0.98."""
+    root = data_dir()
+    assert root is not None
+    trial = ll.read_xsens(root / "gait" / "rawimu", real_walk_leg_mapping(side), side=side)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(InvertedSignError) as e:
+            ll.process_trial(_negated(trial, sensor, signal), use_mag=False)
+    assert e.value.sensors == (sensor,)
