@@ -40,6 +40,7 @@ from .orientation import estimate_orientation
 from .orientation.magnetic import check_magnetic_field
 from .orientation.sign_check import InvertedSignError, chain_sign_check
 from .s2j import S2JModel, constant_s2j_from_calibration
+from .segments.angle_range import ImplausibleAnglesWarning, implausible_angles
 from .segments.tracking import SegmentMotion, track_segments
 from .stillness import StillPeriod, gyro_bias
 
@@ -328,6 +329,8 @@ def process_trial(
             (``SensorOrderError``), the wrong side (``WrongSideError``), or bad options.
 
     Warns:
+        ImplausibleAnglesWarning: a joint angle's median while the leg moves lies beyond
+            what a leg holds (:mod:`lowerlimb.segments.angle_range`).
         CalibrationFallbackWarning: an implausible thigh or shank length was replaced
             by the anthropometric template (:mod:`lowerlimb.model.fallback`).
     """
@@ -376,6 +379,8 @@ def process_trial(
         shared_heading=orientations.used_mag,
     )
     clock.stop("segment frames, angles")
+    for message in implausible_angles(motion.angles_rad, gyr["shank"]):
+        warnings.warn(message, ImplausibleAnglesWarning, stacklevel=2)
 
     clock.start()
     model, positions_m, s2j_used = build_model(

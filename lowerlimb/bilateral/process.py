@@ -47,6 +47,7 @@ from ..io.bilateral_trial import BilateralTrial, with_file_names
 from ..io.trial import StandingStartWarning
 from ..orientation.magnetic import check_magnetic_field
 from ..pipeline import MAG_FILTERS, MagneticDisturbanceWarning, TrialResult, build_model, process_trial
+from ..segments.angle_range import ImplausibleAnglesWarning, implausible_angles
 from ..segments.tracking import track_segments
 from .gait import BilateralGait, analyse_gait
 from .hips import HipCheck, HipParams, HipSpacingWarning, check_hips
@@ -406,6 +407,8 @@ def process_bilateral_trial(
     )
     if legs["left"].used_mag and not legs["right"].used_mag:  # the right field was rejected
         legs["left"], caught["left"] = _process_leg(trial, "left", use_mag=False, **kwargs)
+    # the angles are judged once the legs share their pelvis (below)
+    caught = {s: [w for w in c if w.category is not ImplausibleAnglesWarning] for s, c in caught.items()}
     for message, category in _leg_warnings(caught):
         warnings.warn(message, category, stacklevel=2)
     timings: dict[str, float] = {}
@@ -421,6 +424,9 @@ def process_bilateral_trial(
             warnings.simplefilter("ignore", StandingStartWarning)  # said once above
             legs, pelvis = _one_pelvis(legs, height_m=height_m, mass_kg=mass_kg, params=pelvis_params)
         timings["one pelvis"] = time.perf_counter() - t0
+    for side, r in legs.items():
+        for message in implausible_angles(r.angles_rad, r.trial.gyr["shank"]):
+            warnings.warn(f"{side} leg: {message}", ImplausibleAnglesWarning, stacklevel=2)
     hips = check_hips(
         legs["left"].calibration,
         legs["right"].calibration,
