@@ -61,6 +61,7 @@ def test_a_lone_negative_edge_names_both_of_its_sensors():
     assert check.inverted == ("pelvis", "thigh") and check.ambiguous
     msg = str(InvertedSignError(check))
     assert "the pelvis or the thigh turns about the vertical" in msg and "pelvis–thigh -1.00" in msg
+    assert "one of them has its accelerometer or gyro sign inverted" in msg
     assert "thigh–shank" not in msg and "\n" not in msg
 
 
@@ -98,7 +99,7 @@ def test_simulated_walk_with_a_negated_accelerometer_is_refused(walk, sensor):
         warnings.simplefilter("ignore")
         ll.process_trial(_negated(walk, sensor))
     assert isinstance(e.value, InputError) and e.value.sensors == (sensor,)
-    assert "negate its acc_* columns" in str(e.value)
+    assert "its accelerometer or gyro sign is inverted; negate the acc_* columns" in str(e.value)
 
 
 def test_the_check_can_be_switched_off(walk):

@@ -105,13 +105,21 @@ class InvertedSignError(InputError):
             for (a, b), r, d in zip(check.edges, check.correlation, check.decides, strict=True)
             if d and r < 0
         ]
-        who = " or the ".join(check.inverted) if check.ambiguous else " and the ".join(check.inverted)
-        verb = "turns" if len(check.inverted) == 1 or check.ambiguous else "turn"
+        if check.ambiguous:
+            what = f"the {' or the '.join(check.inverted)} turns"
+            whose = "one of them has its accelerometer or gyro sign inverted (too little turning to tell)"
+        elif len(check.inverted) == 1:
+            what, whose = f"the {check.inverted[0]} turns", "its accelerometer or gyro sign is inverted"
+        else:
+            what, whose = (
+                f"the {' and the '.join(check.inverted)} turn",
+                "their accelerometer or gyro signs are inverted",
+            )
         super().__init__(
-            f"the {who} {verb} about the vertical against the neighbouring segments (correlation of "
-            f"the vertical rates {', '.join(neg)}): its accelerometer or gyro sign is inverted; negate "
-            f"its acc_* columns (a device that reads -9.81 along up at rest) or its gyr_* columns, "
-            f"or pass --no-sign-check if the motion really turns these segments against each other"
+            f"{what} about the vertical against the neighbouring segments (correlation of the vertical "
+            f"rates {', '.join(neg)}): {whose}; negate the acc_* columns (a device that reads -9.81 "
+            f"along up at rest) or the gyr_* columns, or pass --no-sign-check if the motion really "
+            f"turns these segments against each other"
         )
 
 
