@@ -104,3 +104,30 @@ def test_an_agreeing_pelvis_turn_lets_an_uncertain_hip_decide(cue, refused):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", SideEvidenceWarning)
             check_side("left", hip_on_the_right, hip_std_m=0.02, pelvis_turn=cue)
+
+
+def _swap(trial, a: str, b: str):
+    acc, gyr = dict(trial.acc), dict(trial.gyr)
+    acc[a], acc[b] = acc[b], acc[a]
+    gyr[a], gyr[b] = gyr[b], gyr[a]
+    return type(trial)(time_s=trial.time_s, acc=acc, gyr=gyr, mag=None, side=trial.side)
+
+
+def test_a_knee_lift_whose_foot_fits_the_knee_is_not_called_swapped():
+    """The ankle barely moves and the shank's tissue wobbles: the knee's centre fits the foot
+    better (0.11 against 0.19 m/s²), its hinge does not. It was refused as shank/foot swapped."""
+    from lowerlimb.calibration.plausibility import SwapVetoWarning
+    from lowerlimb.simulation import Artefacts
+
+    trial = cached_simulation("knee-lift", 40.0, 2, artefacts=Artefacts.real_walk()).trial
+    with pytest.warns(SwapVetoWarning, match="the knee is the better hinge"):
+        calibrate_leg(trial)
+
+
+def test_a_squat_with_thigh_and_shank_exchanged_names_them():
+    """The summed hip + ankle test missed it (the pelvis's noise) and the knee's named shank/foot."""
+    from lowerlimb.simulation import Artefacts
+
+    trial = cached_simulation("squat", 40.0, 2, artefacts=Artefacts.real_walk()).trial
+    with pytest.raises(SensorOrderError, match="the thigh and shank columns look swapped"):
+        calibrate_leg(_swap(trial, "thigh", "shank"))
