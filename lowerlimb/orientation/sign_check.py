@@ -142,6 +142,19 @@ def _edge_correlation(a: FloatArray, b: FloatArray, p: SignCheckParams) -> float
     return float(np.sum(a * b) / den) if den > 0 else float("nan")
 
 
+def _group_signs(root: str, edges: Sequence[tuple[str, str]], sign: Sequence[int]) -> dict[str, int]:
+    """Signs (±1) of the sensors joined to ``root`` by deciding edges, relative to ``root``'s +1."""
+    value, stack = {root: 1}, [root]
+    while stack:
+        s = stack.pop()
+        for (a, b), e in zip(edges, sign, strict=True):
+            other = b if s == a else a if s == b else None
+            if e != 0 and other is not None and other not in value:
+                value[other] = value[s] * e
+                stack.append(other)
+    return value
+
+
 def _fewest_inverted(
     sensors: Sequence[str], edges: Sequence[tuple[str, str]], sign: Sequence[int]
 ) -> tuple[tuple[str, ...], bool]:
@@ -151,28 +164,19 @@ def _fewest_inverted(
     sensor; of a group's two assignments the one with fewer inverted sensors is taken.
     Returns the inverted sensors and whether some group's choice was a tie.
     """
-    value: dict[str, int] = {}
+    seen: set[str] = set()
     inverted: list[str] = []
     ambiguous = False
     for root in sensors:
-        if root in value:
+        if root in seen:
             continue
-        value[root], group, stack = 1, [root], [root]
-        while stack:
-            s = stack.pop()
-            for (a, b), e in zip(edges, sign, strict=True):
-                if e == 0 or s not in (a, b):
-                    continue
-                other = b if s == a else a
-                if other not in value:
-                    value[other] = value[s] * e
-                    group.append(other)
-                    stack.append(other)
-        neg = [s for s in group if value[s] < 0]
-        pos = [s for s in group if value[s] > 0]
+        value = _group_signs(root, edges, sign)
+        seen |= set(value)
+        neg = [s for s, v in value.items() if v < 0]
+        pos = [s for s, v in value.items() if v > 0]
         if neg and len(neg) == len(pos):
             ambiguous = True
-            inverted += _first_negative_edge(edges, sign, group)
+            inverted += _first_negative_edge(edges, sign, list(value))
         else:
             inverted += neg if len(neg) < len(pos) else pos
     return tuple(s for s in sensors if s in inverted), ambiguous
