@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from .conventions import ANGLE_COLUMNS, JOINT_SENSORS, FloatArray
+from .errors import InputError
 from .io.atomic import check_new_directory, populate_directory
 from .io.tables import write_angles_csv, write_positions_csv
 from .simulation import ImuNoise, Simulation, simulate
@@ -118,12 +119,19 @@ def run_demo(options: DemoOptions) -> None:
     """Simulate a walk, calibrate it, write all outputs plus the truth comparison into ``options.out``.
 
     Raises:
-        InputError: ``options.out`` (when given) exists and is not empty.
+        InputError: ``options.out`` (when given) exists and is not empty, or the duration
+            or seed is out of the range ``lowerlimb simulate`` accepts.
     """
+    from .io.bounds import INPUT_BOUNDS, check_range
     from .outputs import CalibrateOptions, build_provenance, write_outputs
     from .pipeline import process_trial
     from .viz.plots import plot_angles
 
+    check_range("--duration", options.duration_s, INPUT_BOUNDS.duration_s, "s", "the walk length")
+    if not 0 <= options.seed <= INPUT_BOUNDS.max_seed:
+        raise InputError(
+            f"--seed {options.seed} is out of range; give an integer from 0 to {INPUT_BOUNDS.max_seed}"
+        )
     out = fresh_directory(Path(DEFAULT_DEMO_DIR)) if options.out is None else Path(options.out)
     check_new_directory(out)
     print(

@@ -477,3 +477,41 @@ def test_ctrl_c_during_calibrate_writes_nothing(tmp_path, walk_clean):
             proc.wait()
     assert proc.returncode == 130, err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["walk.csv"]
+
+
+# ---------------------------------------------------------------- demo, view
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--seed", "-5"], "--seed -5 is out of range"),
+        (["--duration", "1e6"], "--duration 1e+06 s is out of range"),
+    ],
+)
+def test_demo_checks_its_options_as_simulate_does(tmp_path, capsys, extra, message):
+    """They were an internal error (a negative seed) and a run that never ended (1e6 s)."""
+    err = refused(["demo", "--out", str(tmp_path / "d"), *extra], capsys)
+    assert message in err and not (tmp_path / "d").exists()
+
+
+@pytest.mark.parametrize(
+    ("host", "message"),
+    [("999.1.1.1", "is not an address"), ("nonexistent.invalid", "is not an address")],
+)
+def test_view_refuses_a_host_it_cannot_listen_on(host, message):
+    """An internal error (the server's exit status) and a silent hang before."""
+    from lowerlimb.errors import InputError
+    from lowerlimb.viz.view import check_host
+
+    with pytest.raises(InputError, match=message):
+        check_host(host)
+    check_host("127.0.0.1")
+
+
+def test_view_names_a_two_leg_folder(tmp_path, capsys):
+    """It blamed the URDF ("not a lowerlimb leg")."""
+    for name in ("calibrated.urdf", "calibrated_left.urdf", "calibrated_right.urdf", "angles.csv"):
+        (tmp_path / name).write_text("x")
+    err = refused(["view", str(tmp_path)], capsys)
+    assert "holds a two-leg result; view animates one leg only" in err

@@ -16,6 +16,8 @@ command) serves until Ctrl-C.
 from __future__ import annotations
 
 import os
+import select
+import socket
 import subprocess
 import sys
 import time
@@ -114,6 +116,12 @@ def load_view_data(directory: str | os.PathLike[str]) -> ViewData:
     if not d.is_dir():
         raise InputError(f"{d} is not a directory; {hint}")
     urdf, angles_csv = d / URDF_NAME, d / ANGLES_NAME
+    if (d / "calibrated_left.urdf").is_file() and (d / "calibrated_right.urdf").is_file():
+        raise InputError(
+            f"{d} holds a two-leg result; view animates one leg only: open calibrated.urdf (the "
+            f"lower body) in a URDF viewer, or calibrate one leg with 'lowerlimb calibrate "
+            f"TRIAL.csv --side left' on a four-sensor trial"
+        )
     for f in (urdf, angles_csv):
         if not f.is_file():
             raise InputError(f"{f} is missing; {hint}")
@@ -177,6 +185,24 @@ def build_animation(
     return LegAnimation(data, vis, scene, recorder)
 
 
+def check_host(host: str) -> None:
+    """Refuse an address this machine cannot listen on, before any server starts.
+
+    Raises:
+        InputError: ``host`` does not resolve, or is not one of this machine's addresses.
+    """
+    fix = "give one of this machine's addresses, e.g. 127.0.0.1 (the default) or 0.0.0.0 (all)"
+    try:
+        family, _, _, _, address = socket.getaddrinfo(host, None, type=socket.SOCK_STREAM)[0]
+    except (OSError, UnicodeError) as e:
+        raise InputError(f"--host {host!r} is not an address ({e}); {fix}") from None
+    with socket.socket(family, socket.SOCK_STREAM) as probe:
+        try:
+            probe.bind((address[0], 0))
+        except OSError as e:
+            raise InputError(f"--host {host!r} cannot be listened on ({e.strerror}); {fix}") from None
+
+
 def start_server(
     host: str = DEFAULT_HOST, *, timeout_s: float = 60.0
 ) -> tuple[subprocess.Popen[bytes], str, str]:
@@ -191,6 +217,7 @@ def start_server(
     process = subprocess.Popen(
         [sys.executable, "-u", "-m", "lowerlimb.viz.meshcat_server", "--host", host],
         stdout=subprocess.PIPE,
+        bufsize=0,  # unbuffered: select() below must see every line that readline has not read
         stderr=subprocess.DEVNULL,
         stdin=subprocess.DEVNULL,
         start_new_session=True,  # the terminal's Ctrl-C goes to the view, which stops the server
@@ -200,14 +227,16 @@ def start_server(
     try:
         assert process.stdout is not None
         while len(urls) < 2:
+            # wait for a line at most until the deadline (a blocked readline never checks it)
+            ready, _, _ = select.select([process.stdout], [], [], max(0.0, deadline - time.monotonic()))
+            if not ready:
+                raise RuntimeError("the meshcat server printed no URL")
             line = process.stdout.readline().decode("utf-8", "replace").strip()
             if not line and process.poll() is not None:
                 raise RuntimeError(f"the meshcat server exited with status {process.returncode}")
             if "=" in line:
                 key, value = line.split("=", 1)
                 urls[key] = value
-            if time.monotonic() > deadline:
-                raise RuntimeError("the meshcat server printed no URL")
     except BaseException:
         _stop(process)
         raise
@@ -257,9 +286,12 @@ def serve(
         The session; call :meth:`ViewSession.close` to stop the server.
 
     Raises:
-        InputError: see :func:`load_view_data` (checked before any server starts).
+        InputError: see :func:`load_view_data` and :func:`check_host` (checked before any
+            server starts).
     """
     load_view_data(directory)  # fail before starting a server
+    if zmq_url is None:
+        check_host(host)
     server = None
     vis = None
     try:
