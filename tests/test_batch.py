@@ -113,11 +113,15 @@ def test_cli_exit_status_force_and_changed_input(tmp_path, capsys):
         ("trial,height_m\na.csv,tall\n", "height_m 'tall'"),
         ("trial\na.csv\na.csv\n", "the same trial twice"),
         ("trial\n", "no trial found"),
+        ("trial,height_m\na.csv,175\n", "height_m 175 is outside 0.5–2.6 m; give it in m"),
+        ("trial,mass_kg\na.csv,75000\n", "mass_kg 75000 is outside 10–400 kg"),
+        ("trial,subject\na.csv,M\xfcller\n", "is not UTF-8 text; save the manifest as UTF-8"),
     ],
 )
 def test_bad_manifest_is_exit_2(tmp_path, capsys, text, message):
+    """A height in cm and a latin-1 manifest were an internal error of the trial, or of the run."""
     manifest = tmp_path / "m.csv"
-    manifest.write_text(text)
+    manifest.write_bytes(text.encode("latin-1"))
     with pytest.raises(ManifestError, match=message.replace("(", r"\(")):
         read_study(manifest)
     assert main(["batch", str(manifest), "--out", str(tmp_path / "o"), "--quiet"]) == 2
@@ -282,3 +286,39 @@ def test_a_new_version_redoes_the_study(tmp_path, monkeypatch):
     assert input_hash(trial, BatchParams()) == before
     monkeypatch.setattr(record, "__version__", "99.0.0")
     assert input_hash(trial, BatchParams()) != before
+
+
+def test_an_out_folder_holding_the_study_is_named(tmp_path, capsys):
+    """It said "no trial found": the trials lie under --out, which is never searched."""
+    manifest = _study(tmp_path / "in", 1, corrupt=False)
+    manifest.unlink()
+    study = manifest.parent
+    assert main(["batch", str(study), "--out", str(study), "--quiet"]) == 2
+    assert "no trial found outside --out" in capsys.readouterr().err
+
+
+def test_an_unusable_scheduler_leaves_nothing(tmp_path, monkeypatch):
+    """An empty batch.csv and study tables were left in --out."""
+    import lowerlimb.batch.dask_cluster as dask_cluster
+    from lowerlimb.errors import InputError
+
+    def unreachable(*args, **kwargs):
+        raise InputError("cannot reach the Dask scheduler tcp://127.0.0.1:1")
+
+    monkeypatch.setattr(dask_cluster, "run_dask", unreachable)
+    manifest = _study(tmp_path / "in", 1, corrupt=False)
+    with pytest.raises(InputError, match="cannot reach"):
+        run_study(manifest, tmp_path / "o", scheduler="tcp://127.0.0.1:1", quiet=True)
+    assert not (tmp_path / "o").exists()
+
+
+def test_trial_folders_follow_the_umask(tmp_path):
+    """They were mkdtemp's 0700: other users of a shared study folder could not read them."""
+    manifest = _study(tmp_path / "in", 1, corrupt=False)
+    old = os.umask(0o022)
+    try:
+        run_study(manifest, tmp_path / "o", BatchParams(outputs=frozenset({"calibration"})), quiet=True)
+    finally:
+        os.umask(old)
+    folders = [p for p in (tmp_path / "o").iterdir() if p.is_dir() and not p.name.startswith(".")]
+    assert folders and all(p.stat().st_mode & 0o777 == 0o755 for p in folders)

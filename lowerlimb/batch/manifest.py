@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lowerlimb.errors import InputError
+from lowerlimb.io.bounds import INPUT_BOUNDS
 
 from .params import BatchParams
 
@@ -80,8 +81,9 @@ def read_study(
 
     Raises:
         FileNotFoundError: ``source`` does not exist.
-        ManifestError: no ``trial`` column, a bad ``side``/``height_m``/``mass_kg``
-            value, the same trial twice, two trials with the same folder name, or no trial.
+        ManifestError: no ``trial`` column, text that is not UTF-8, a bad ``side`` or a
+            ``height_m``/``mass_kg`` outside the CLI's ``--height``/``--mass`` range, the same
+            trial twice, two trials with the same folder name, or no trial (outside ``exclude``).
     """
     p = params or BatchParams()
     src = Path(source)
@@ -101,6 +103,10 @@ def read_study(
         rows = _read_rows(src)
         base = src.parent
     trials = [_trial_of(row, k, base, src, p) for k, row in enumerate(rows, start=1)]
+    if not trials and src.is_dir() and exclude is not None and any(src.rglob("*.csv")):
+        raise ManifestError(
+            src, f"no trial found outside --out {exclude}; give an --out folder outside the study folder"
+        )
     if not trials:
         raise ManifestError(
             src, "no trial found; list trial CSVs in a 'trial' column or give a folder of them"
@@ -114,6 +120,15 @@ def _subject_of(relative: Path) -> str:
 
 
 def _read_rows(path: Path) -> list[dict[str, str]]:
+    try:
+        return _read_utf8_rows(path)
+    except UnicodeDecodeError as e:
+        raise ManifestError(
+            path, f"byte {e.start} is not UTF-8 text; save the manifest as UTF-8 (Excel: 'CSV UTF-8')"
+        ) from None
+
+
+def _read_utf8_rows(path: Path) -> list[dict[str, str]]:
     with open(path, newline="", encoding="utf-8-sig") as f:
         reader = csv.DictReader(f)
         header = [h.strip() for h in (reader.fieldnames or [])]
@@ -138,6 +153,7 @@ def _trial_of(row: dict[str, str], k: int, base: Path, src: Path, p: BatchParams
     if side not in ("left", "right"):
         raise ManifestError(src, f"side {side!r}; use left or right", k)
     calibration = row.get("calibration") or ""
+    b = INPUT_BOUNDS
     return StudyTrial(
         name=_folder_name(label),
         path=base / label,
@@ -145,13 +161,16 @@ def _trial_of(row: dict[str, str], k: int, base: Path, src: Path, p: BatchParams
         side=side,
         subject=row.get("subject", ""),
         task=row.get("task", ""),
-        height_m=_positive(row.get("height_m"), "height_m", p.default_height_m, src, k),
-        mass_kg=_positive(row.get("mass_kg"), "mass_kg", p.default_mass_kg, src, k),
+        height_m=_in_range(row.get("height_m"), "height_m", p.default_height_m, b.height_m, src, k),
+        mass_kg=_in_range(row.get("mass_kg"), "mass_kg", p.default_mass_kg, b.mass_kg, src, k),
         calibration=base / calibration if calibration else None,
     )
 
 
-def _positive(text: str | None, column: str, default: float, src: Path, k: int) -> float:
+def _in_range(
+    text: str | None, column: str, default: float, bounds: tuple[float, float], src: Path, k: int
+) -> float:
+    """The cell as a number within ``bounds`` (the CLI's ``--height`` / ``--mass`` range), or the default."""
     if not text:
         return default
     try:
@@ -160,6 +179,10 @@ def _positive(text: str | None, column: str, default: float, src: Path, k: int) 
         value = math.nan
     if not (math.isfinite(value) and value > 0):
         raise ManifestError(src, f"{column} {text!r} is not a positive number", k)
+    lo, hi = bounds
+    if not lo <= value <= hi:
+        unit = column.rsplit("_", 1)[-1]
+        raise ManifestError(src, f"{column} {text} is outside {lo:g}–{hi:g} {unit}; give it in {unit}", k)
     return value
 
 

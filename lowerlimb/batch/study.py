@@ -10,6 +10,7 @@ skips every trial whose record matches its input hash (``force`` redoes them).
 from __future__ import annotations
 
 import os
+import shutil
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
@@ -101,6 +102,7 @@ def run_study(
     root = Path(out)
     if root.exists() and not root.is_dir():
         raise InputError(f"{root} is a file; give a folder for --out")
+    created = not root.exists()
     root.mkdir(parents=True, exist_ok=True)
     outcomes: dict[str, TrialOutcome] = {}
     jobs: list[TrialJob] = []
@@ -113,7 +115,11 @@ def run_study(
     result = StudyResult([], root)
     last_write = [time.perf_counter()]
 
+    finished: list[str] = []
+    unusable = [False]
+
     def finish(outcome: TrialOutcome) -> None:
+        finished.append(outcome.name)
         outcomes[outcome.name] = outcome
         _record(root, outcome)
         progress.update(outcome)
@@ -136,9 +142,15 @@ def run_study(
                 from .dask_cluster import run_dask
 
                 run_dask(worker or _default_worker(), jobs, scheduler=scheduler, on_done=finish)
+        except InputError:
+            unusable[0] = not finished  # the scheduler: nothing ran, nothing is written
+            if unusable[0] and created:
+                shutil.rmtree(root, ignore_errors=True)
+            raise
         finally:
             result.outcomes = [outcomes[t.name] for t in trials if t.name in outcomes]
-            result.files = write_study_tables(root, result.rows())
+            if not unusable[0]:
+                result.files = write_study_tables(root, result.rows())
     result.processed = len(jobs)
     result.wall_s = time.perf_counter() - t0
     return result

@@ -25,6 +25,7 @@ from lowerlimb.bilateral import BilateralResult, process_bilateral_trial
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.conventions import ANGLE_COLUMNS
 from lowerlimb.errors import InputError
+from lowerlimb.io.atomic import default_dir_mode
 from lowerlimb.io.bilateral_trial import BilateralTrial, read_header, trial_layout
 from lowerlimb.io.bounds import INPUT_BOUNDS
 from lowerlimb.io.trial import ImuTrial
@@ -209,6 +210,7 @@ def replace_directory(out: Path, fill: Callable[[Path], None]) -> None:
     old: Path | None = None
     try:
         fill(staging)
+        os.chmod(staging, default_dir_mode())  # as calibrate's folders, not mkdtemp's 0700
         if out.exists():
             old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old.", dir=out.parent))
             os.replace(out, old / "previous")

@@ -72,10 +72,12 @@ def run(args: argparse.Namespace) -> int:
     result = run_study(args.source, args.out, params, scheduler=args.scheduler, quiet=args.quiet)
     failed = result.failed
     n = len(result.outcomes)
+    up_to_date = sum(1 for o in result.outcomes if o.skipped)
+    unread = n - result.processed - up_to_date  # failed before running (a missing file)
     print(
         f"lowerlimb batch: {n - len(failed)} of {n} trials done ({result.processed} processed now, "
-        f"{n - result.processed} up to date), {len(failed)} failed, {result.wall_s:.1f} s; "
-        f"wrote {result.out / 'batch.csv'}",
+        f"{up_to_date} up to date{f', {unread} unreadable' if unread else ''}), {len(failed)} failed, "
+        f"{result.wall_s:.1f} s; wrote {result.out / 'batch.csv'}",
         file=sys.stderr,
     )
     for o in failed:

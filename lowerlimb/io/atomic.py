@@ -20,6 +20,7 @@ __all__ = [
     "check_new_directory",
     "check_new_files",
     "check_writable_parent",
+    "default_dir_mode",
     "populate_directory",
     "write_atomically",
     "write_files_atomically",
@@ -31,6 +32,11 @@ def _umask() -> int:
     mask = os.umask(0)
     os.umask(mask)
     return mask
+
+
+def default_dir_mode() -> int:
+    """The permissions a new folder gets under the user's umask (``mkdtemp`` gives 0700)."""
+    return 0o777 & ~_umask()
 
 
 def check_writable_parent(path: Path, option: str = "--out") -> Path:
@@ -145,7 +151,7 @@ def populate_directory(out: Path, fill: Callable[[Path], None]) -> None:
     staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=parent))
     try:
         fill(staging)
-        os.chmod(staging, 0o777 & ~_umask())
+        os.chmod(staging, default_dir_mode())
         check_interrupted()
         if out.exists():
             out.rmdir()
