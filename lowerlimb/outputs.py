@@ -23,6 +23,8 @@ from typing import Any
 import numpy as np
 
 from .agreement.comparison import Comparison
+from .agreement.files import Table
+from .agreement.reference_checks import check_time_overlap
 from .agreement.report import agreement_section_html, compare_result, read_reference
 from .calibration import LegCalibration
 from .calibration.options import CalibrationOptions, check_method
@@ -332,7 +334,7 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
     """Calibrate a trial file and write its result folder; progress and warnings go to stderr.
 
     Checks every input before computing (options, output folder, trial, the
-    calibration and S2J files and their values), computes everything, then
+    calibration, S2J and reference files and their values), computes everything, then
     writes the folder at once.
 
     Raises:
@@ -355,8 +357,8 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
     provenance = build_provenance(options)
     check_interrupted()
     exports = check_export_formats(options.exports)
-    reference = None if options.reference is None else read_reference(options.reference)
     files = check_outputs(options.outputs)
+    reference = _checked_reference(options, files, trial.time_s)
     announce(options, trial.n_samples, trial.rate_hz, trial.duration_s, f"{trial.side} leg")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -398,6 +400,26 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
     for line in residual_lines(result.calibration_dict()):
         print(f"  {line}", file=sys.stderr)
     return result
+
+
+def _checked_reference(options: CalibrateOptions, files: frozenset[str], time_s: FloatArray) -> Table | None:
+    """The ``--reference`` table, checked against the options and the trial's (N,) time, s, before computing.
+
+    Raises:
+        InputError: the report is not written (nowhere to put the agreement), or the reference is
+            unreadable, has no column of ours, or its time is unsorted, in ms or off the trial's.
+        FileNotFoundError: the reference does not exist.
+    """
+    if options.reference is None:
+        return None
+    if "report" not in files:
+        raise InputError(
+            f"--reference {options.reference} goes into report.html, which is not written "
+            f"(--no-report, or --outputs without report); drop --reference, or write the report"
+        )
+    reference = read_reference(options.reference, time_s)
+    check_time_overlap(time_s, reference.time_s)
+    return reference
 
 
 def residual_lines(calibration: dict[str, Any]) -> list[str]:
@@ -582,6 +604,13 @@ def read_calibration(path: Path, bounds: InputBounds = INPUT_BOUNDS) -> LegCalib
     data = _load_json(path, "calibration.json", fix)
     if not isinstance(data, dict):
         raise InputError(f"{path} holds a JSON {type(data).__name__}, not a calibration object; {fix}")
+    if data.get("layout") == "two_legs":
+        raise InputError(
+            f"{path} is a two-leg calibration; reuse needs one leg's calibration.json (a four-sensor "
+            f"trial's), and a two-leg trial is calibrated on itself"
+        )
+    if str(data.get("format", "")).startswith("lowerlimb-s2j"):
+        raise InputError(f"{path} is a segment-to-joint model (give it to --s2j); {fix}")
     try:
         check_side(str(data.get("side")))
     except ValueError:

@@ -9,6 +9,9 @@ from lowerlimb.agreement import (
     EmptyReferenceError,
     NoCommonColumnsError,
     NoTimeOverlapError,
+    ReferenceTimeUnitError,
+    ReferenceUnitError,
+    TooLittleTimeOverlapError,
     agreement_statistics,
     cmc_two_waveforms,
     compare_series,
@@ -17,7 +20,7 @@ from lowerlimb.agreement import (
     plot_bland_altman,
     resample_linear,
 )
-from lowerlimb.errors import ShapeError, TimeAxisError
+from lowerlimb.errors import InputError, ShapeError, TimeAxisError
 
 OURS = [1.0, 2.0, 3.0, 4.0, 5.5]
 REF = [1.5, 1.5, 3.5, 3.0, 5.0]
@@ -162,3 +165,78 @@ def test_bland_altman_plot_is_written(tmp_path):
     path = tmp_path / "ba.png"
     plot_bland_altman(path, c.quantities, c.series, title="test")
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 10_000
+
+
+def test_compare_series_refuses_a_reference_clock_in_ms():
+    t = np.arange(0, 30, 0.01)
+    ours = {"knee_flexion": 30 * np.sin(t)}
+    t_ms = 1000 * t  # 0…29990 "s": only its first 4 samples overlap ours
+    with pytest.raises(ReferenceTimeUnitError, match=r"like milliseconds.*divide its time column") as e:
+        compare_series(t, ours, {"knee_flexion": "deg"}, t_ms, {"knee_flexion": 30 * np.sin(t)})
+    assert e.value.median_step == pytest.approx(10.0) and e.value.our_step_s == pytest.approx(0.01)
+
+
+def test_compare_series_refuses_spans_that_barely_overlap():
+    t = np.arange(0, 30, 0.01)
+    ours = {"knee_flexion": 30 * np.sin(t)}
+    units = {"knee_flexion": "deg"}
+    t_ref = t + 29.5  # 0.49 s in common
+    with pytest.raises(TooLittleTimeOverlapError, match=r"overlap for only 0\.49 s") as e:
+        compare_series(t, ours, units, t_ref, {"knee_flexion": 30 * np.sin(t_ref)})
+    assert e.value.overlap_s == pytest.approx(0.49) and e.value.min_fraction == 0.25
+    # a short reference inside our span passes
+    inner = (t > 10) & (t < 14)
+    compare_series(t, ours, units, t[inner], {"knee_flexion": ours["knee_flexion"][inner]})
+    # a reference clock 1.8 s late on a 2 s trial overlaps 10 %: refused, unless alignment may shift it
+    t2 = t[:200]
+    short = {"knee_flexion": _signals(t2)[:, 0]}
+    late = {"knee_flexion": _signals(t2)[:, 0]}
+    with pytest.raises(TooLittleTimeOverlapError, match="10 % of the shorter"):
+        compare_series(t2, short, units, t2 + 1.8, late)
+    c = compare_series(t2, short, units, t2 + 1.8, late, align_time=True)
+    assert c.time_offset_s == pytest.approx(-1.8, abs=0.005)
+
+
+def test_compare_series_refuses_radians_and_millimetres_but_not_small_motions():
+    t = np.arange(0, 10, 0.01)
+    knee_deg = 30 + 30 * np.sin(t)
+    foot_m = -0.8 + 0.05 * np.sin(t)
+    units = {"knee_flexion": "deg", "hip_internal_rotation": "deg", "pelvis_to_foot_y": "m"}
+    ours = {"knee_flexion": knee_deg, "hip_internal_rotation": 2 * np.sin(t), "pelvis_to_foot_y": foot_m}
+    with pytest.raises(ReferenceUnitError, match=r"'knee_flexion' spans 1\.05 .*radians.*180/π") as e:
+        compare_series(t, ours, units, t, {"knee_flexion": np.deg2rad(knee_deg)})
+    assert e.value.column == "knee_flexion" and e.value.guessed_unit == "radians"
+    with pytest.raises(ReferenceUnitError, match=r"millimetres.*divide by 1000") as e:
+        compare_series(t, ours, units, t, {"pelvis_to_foot_y": 1000 * foot_m})
+    assert e.value.unit == "m" and e.value.reference_size == pytest.approx(800, rel=0.02)
+    with pytest.raises(ReferenceUnitError, match=r"centimetres.*divide by 100"):
+        compare_series(t, ours, units, t, {"pelvis_to_foot_y": 100 * foot_m})
+    # a joint that barely moves proves nothing; a reference in deg that disagrees is still compared
+    ok = compare_series(
+        t,
+        ours,
+        units,
+        t,
+        {"hip_internal_rotation": np.deg2rad(2 * np.sin(t)), "knee_flexion": 0.3 * knee_deg},
+    )
+    assert [s.quantity for s in ok.quantities] == ["knee_flexion", "hip_internal_rotation"]
+    # a constant (stuck) reference column is compared, not taken for radians
+    stuck = compare_series(t, ours, units, t, {"knee_flexion": np.full(t.size, 0.5)})
+    assert stuck.quantities[0].rmse > 10
+
+
+def test_reference_table_is_checked_when_read(tmp_path):
+    from lowerlimb.agreement.files import read_reference_table
+
+    path = tmp_path / "ref.csv"
+    path.write_bytes(b"\xef\xbb\xbftime,knee_flexion,note\n0,1,ok\n0.01,2,\xe9t\xe9\n")  # BOM + 37 bytes
+    with pytest.raises(InputError, match=r"not UTF-8 text \(byte 0xe9 at offset 40, line 3\)"):
+        read_reference_table(path)
+    path.write_text("time,knee_flexion,time\n0,1,0\n0.01,2,0.01\n")
+    with pytest.raises(InputError, match="'time' 2 times"):
+        read_reference_table(path)
+    path.write_text("time,knee_flexion\n0,1\nnan,2\n0.02,3\n")
+    with pytest.raises(TimeAxisError, match="not a number at data row 2"):
+        read_reference_table(path)
+    path.write_text("time,knee_flexion,,\n0,1,,\n0.01,2,,\n")  # empty header cells are not duplicates
+    assert list(read_reference_table(path).columns) == ["knee_flexion"]

@@ -136,3 +136,101 @@ def test_compare_bad_input_is_one_line_exit_2_and_writes_nothing(case, message, 
 def test_compare_requires_out(capsys):
     assert main(["compare", "a", "b.csv"]) == 2
     assert "--out" in capsys.readouterr().err
+
+
+def _rows(*columns, digits=6):
+    """CSV rows of equal-length columns, each value with ``digits`` decimals."""
+    return [[f"{v:.{digits}f}" for v in row] for row in zip(*columns, strict=True)]
+
+
+def _hostile_reference(case, path, t, deg, pos):
+    """Write the reference of one hostile case; returns the words its one-line error must hold."""
+    knee = deg[:, 3]
+    header = ["time", "knee_flexion"]
+    if case == "latin1":
+        text = "time,knee_flexion,subject\n" + "".join(f"{a},{b},Müller\n" for a, b in _rows(t, knee))
+        path.write_bytes(text.encode("latin-1"))
+        return ["is not UTF-8 text", "byte 0xfc", "line 2", "save it as UTF-8"]
+    if case == "time_ms":
+        _write_ref(path, header, _rows(1000 * t, knee))
+        return ["time steps of 10", "milliseconds", "lowerlimb's are 0.01 s", "divide its time column"]
+    if case == "tiny_overlap":
+        _write_ref(path, header, _rows(t - t[-1] + 0.5, knee))
+        return ["overlap for only 0.5 s", "at least 25 %", "put both on one clock"]
+    if case == "duplicate_column":
+        _write_ref(path, [*header, "knee_flexion"], _rows(t, knee, -knee))
+        return ["'knee_flexion' 2 times", "must appear once"]
+    if case == "unsorted":
+        rows = _rows(t, knee)
+        rows[10], rows[11] = rows[11], rows[10]
+        _write_ref(path, header, rows)
+        return ["not strictly increasing at data row 12", "sort the rows"]
+    if case == "radians":
+        _write_ref(path, header, _rows(t, np.deg2rad(knee)))
+        return ["'knee_flexion'", "looks like radians", "multiply by 180/π"]
+    if case == "millimetres":
+        _write_ref(path, ["time", "pelvis_to_foot_y"], _rows(t, 1000 * pos[:, 1], digits=3))
+        return ["'pelvis_to_foot_y'", "looks like millimetres", "divide by 1000"]
+    raise AssertionError(case)
+
+
+@pytest.mark.parametrize(
+    "case",
+    ["latin1", "time_ms", "tiny_overlap", "duplicate_column", "unsorted", "radians", "millimetres"],
+)
+def test_compare_refuses_a_hostile_reference_with_one_line(case, tmp_path, capsys):
+    d, t, deg, pos = _calibrate_dir(tmp_path)
+    ref = tmp_path / "ref.csv"
+    words = _hostile_reference(case, ref, t, deg, pos)
+    out = tmp_path / "agree"
+    assert main(["compare", str(d), str(ref), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("lowerlimb: error: ") and err.count("\n") == 1 and "Traceback" not in err
+    assert all(w in err for w in words), err
+    assert not out.exists()
+
+
+def test_compare_accepts_a_reference_that_covers_part_of_the_trial(tmp_path):
+    d, t, deg, _ = _calibrate_dir(tmp_path)
+    ref = tmp_path / "ref.csv"
+    part = (t > 4) & (t < 8)  # a 4 s reference inside a 12 s trial: all of its span overlaps
+    _write_ref(ref, ["time", "knee_flexion"], _rows(t[part], deg[part, 3]))
+    assert main(["compare", str(d), str(ref), "--out", str(tmp_path / "agree")]) == 0
+
+
+@pytest.fixture(scope="module")
+def walk_trial_csv(walk_clean, tmp_path_factory):
+    """A simulated one-leg walk as a trial CSV, its (N,) time, s, and (N, 9) angles, deg."""
+    path = tmp_path_factory.mktemp("walk") / "walk.csv"
+    walk_clean.trial.to_csv(path)
+    return path, np.asarray(walk_clean.trial.time_s), np.rad2deg(walk_clean.angles_rad)
+
+
+@pytest.mark.parametrize("case", ["time_ms", "duplicate_column", "no_overlap", "unsorted", "latin1"])
+def test_calibrate_refuses_a_bad_reference_before_computing(case, walk_trial_csv, tmp_path, capsys):
+    trial, t, deg = walk_trial_csv
+    ref = tmp_path / "ref.csv"
+    if case == "no_overlap":
+        _write_ref(ref, ["time", "knee_flexion"], _rows(t + 1000, deg[:, 3]))
+        words = ["no overlap", "put both on one clock"]
+    else:
+        words = _hostile_reference(case, ref, t, deg, np.zeros((t.size, 6)))
+    out = tmp_path / "o"
+    assert main(["calibrate", str(trial), "--out", str(out), "--reference", str(ref)]) == 2
+    err = capsys.readouterr().err
+    # one line and no progress line: refused before the calibration starts
+    assert err.startswith("lowerlimb: error: ") and err.count("\n") == 1 and "Traceback" not in err
+    assert all(w in err for w in words), err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("flags", [["--no-report"], ["--outputs", "calibration,angles"]])
+def test_calibrate_refuses_a_reference_without_the_report(flags, walk_trial_csv, tmp_path, capsys):
+    trial, t, deg = walk_trial_csv
+    ref = tmp_path / "ref.csv"
+    _write_ref(ref, ["time", "knee_flexion"], _rows(t, deg[:, 3]))
+    out = tmp_path / "o"
+    assert main(["calibrate", str(trial), "--out", str(out), "--reference", str(ref), *flags]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "report.html, which is not written" in err and "drop --reference" in err
+    assert not out.exists()

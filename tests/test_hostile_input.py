@@ -515,3 +515,18 @@ def test_view_names_a_two_leg_folder(tmp_path, capsys):
         (tmp_path / name).write_text("x")
     err = refused(["view", str(tmp_path)], capsys)
     assert "holds a two-leg result; view animates one leg only" in err
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        ({"format": "lowerlimb-calibration/1", "layout": "two_legs", "legs": {}}, "is a two-leg calibration"),
+        ({"format": "lowerlimb-s2j/1", "joints": {}}, "is a segment-to-joint model (give it to --s2j)"),
+    ],
+)
+def test_the_wrong_kind_of_calibration_file_is_named(files, tmp_path, capsys, content, message):
+    """Both said "side None is neither 'left' nor 'right'"."""
+    cal = tmp_path / "calibration.json"
+    cal.write_text(json.dumps(content))
+    err = calibrate_refused(files, tmp_path, capsys, files["trial"], "--calibration", str(cal))
+    assert message in err

@@ -13,6 +13,9 @@ from lowerlimb.agreement.errors import (
     EmptyReferenceError,
     NoCommonColumnsError,
     NoTimeOverlapError,
+    ReferenceTimeUnitError,
+    ReferenceUnitError,
+    TooLittleTimeOverlapError,
 )
 from lowerlimb.agreement.params import AgreementParams
 from lowerlimb.agreement.resample import resample_linear
@@ -32,7 +35,10 @@ __all__ = [
     "NoTimeOverlapError",
     "PairedSeries",
     "QuantityAgreement",
+    "ReferenceTimeUnitError",
+    "ReferenceUnitError",
     "TimeAlignment",
+    "TooLittleTimeOverlapError",
     "agreement_statistics",
     "cmc_two_waveforms",
     "compare_series",

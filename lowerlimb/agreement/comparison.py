@@ -12,8 +12,9 @@ from numpy.typing import ArrayLike
 from ..conventions import FloatArray
 from ..errors import ShapeError, TimeAxisError
 from .alignment import TimeAlignment, estimate_time_offset
-from .errors import EmptyReferenceError, NoCommonColumnsError, NoTimeOverlapError
+from .errors import EmptyReferenceError, NoCommonColumnsError
 from .params import AgreementParams
+from .reference_checks import check_reference_time, check_reference_unit, check_time_overlap
 from .resample import resample_linear
 from .statistics import QuantityAgreement, agreement_statistics
 
@@ -75,12 +76,14 @@ def compare_series(
 ) -> Comparison:
     """Compare every quantity the reference shares with our outputs.
 
-    Stages: pick the common columns → (optionally) estimate the clock
+    Stages: check the reference's clock (s, not ms) and its time overlap
+    with ours → pick the common columns → (optionally) estimate the clock
     offset by cross-correlation (:func:`estimate_time_offset`) → resample the
     reference onto our clock by linear interpolation over the overlap
-    (:func:`resample_linear`) → statistics per quantity
-    (:func:`agreement_statistics`, optionally after removing each constant
-    offset).
+    (:func:`resample_linear`) → refuse a column whose size says radians or
+    mm (:func:`~lowerlimb.agreement.reference_checks.check_reference_unit`)
+    → statistics per quantity (:func:`agreement_statistics`, optionally
+    after removing each constant offset).
 
     Args:
         time_s: (N,) our sample times, s, strictly increasing.
@@ -98,6 +101,10 @@ def compare_series(
     Raises:
         NoCommonColumnsError: no reference column is one of ours.
         NoTimeOverlapError: the time axes do not overlap (within the search window when aligning).
+        TooLittleTimeOverlapError: they overlap over less than ``min_span_overlap_fraction``
+            of the shorter span.
+        ReferenceTimeUnitError: the reference's time steps look like ms.
+        ReferenceUnitError: a reference column looks like radians (deg expected) or mm (m expected).
         AlignmentError: the offset cannot be estimated.
         EmptyReferenceError: no common quantity has ``min_samples`` valid pairs.
         TimeAxisError: a time axis is not strictly increasing and finite.
@@ -105,7 +112,7 @@ def compare_series(
     """
     p = params or AgreementParams()
     t = _time_axis(time_s, "lowerlimb")
-    t_ref = _time_axis(time_ref_s, "reference")
+    t_ref = check_reference_time(time_ref_s, time_s=t, params=p)
     common = [q for q in ours if q in reference]
     ignored = tuple(c for c in reference if c not in ours)
     if not common:
@@ -113,8 +120,7 @@ def compare_series(
     X = _columns(ours, common, t.size, "lowerlimb")
     Y = _columns(reference, common, t_ref.size, "reference")
     margin = p.max_offset_s if align_time else 0.0
-    if t_ref[0] - margin > t[-1] or t_ref[-1] + margin < t[0]:
-        raise NoTimeOverlapError((float(t[0]), float(t[-1])), (float(t_ref[0]), float(t_ref[-1])))
+    check_time_overlap(t, t_ref, margin_s=margin, params=p)
     alignment = None
     offset = 0.0
     if align_time:
@@ -127,6 +133,8 @@ def compare_series(
                 stacklevel=2,
             )
     Y_on_ours = resample_linear(t_ref + offset, Y, t)
+    for j, q in enumerate(common):
+        check_reference_unit(q, units[q], X[:, j], Y_on_ours[:, j], params=p)
     stats: list[QuantityAgreement] = []
     series: list[PairedSeries] = []
     skipped: list[str] = []

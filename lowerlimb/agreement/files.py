@@ -5,10 +5,13 @@ Nothing here imports the command line; :mod:`lowerlimb.cli.compare` calls these.
 
 from __future__ import annotations
 
+import codecs
 import csv
+import io
 import json
 import math
 import os
+from collections.abc import Collection
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -16,7 +19,11 @@ import numpy as np
 
 from ..conventions import FloatArray
 from ..errors import InputError
+from ..io.trial import check_unique_columns
 from .comparison import Comparison
+from .errors import NoCommonColumnsError
+from .params import AgreementParams
+from .reference_checks import check_reference_time
 
 #: Output tables of ``calibrate`` and the unit of every non-time column in each.
 OUTPUT_TABLE_UNITS: dict[str, str] = {"angles.csv": "deg", "positions.csv": "m"}
@@ -63,16 +70,17 @@ def read_time_table(path: str | os.PathLike[str], what: str) -> Table:
 
     Raises:
         FileNotFoundError: the file does not exist.
-        InputError: no header, no ``time`` column, unreadable numbers, or no rows.
+        InputError: not UTF-8 text, no header, no ``time`` column, a column named twice,
+            unreadable numbers, or no rows.
     """
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"{what} {path} does not exist; give the path of an existing CSV file")
-    with open(path, encoding="utf-8-sig", newline="") as f:
-        rows = list(csv.reader(f))
+    rows = _csv_rows(path, what)
     if not rows or "time" not in [h.strip() for h in rows[0]]:
         raise InputError(f"{what} {path} has no header with a 'time' column; add a header row 'time,…'")
     header = [h.strip() for h in rows[0]]
+    check_unique_columns([h for h in header if h], f"{what} {path}")
     body = [r for r in rows[1:] if any(c.strip() for c in r)]
     if not body:
         raise InputError(f"{what} {path} has a header but no data rows; export the samples too")
@@ -93,6 +101,35 @@ def read_time_table(path: str | os.PathLike[str], what: str) -> Table:
     itime = header.index("time")
     cols = {h: data[:, j] for j, h in enumerate(header) if j != itime and h}
     return Table(path=path, time_s=data[:, itime], columns=cols)
+
+
+def read_reference_table(
+    path: str | os.PathLike[str],
+    *,
+    our_columns: Collection[str] | None = None,
+    time_s: FloatArray | None = None,
+    params: AgreementParams | None = None,
+) -> Table:
+    """Read a reference CSV (:func:`read_time_table`), check its columns, then its time column.
+
+    Args:
+        path: the CSV file: ``time`` in s and columns named as ours (deg, m).
+        our_columns: our quantity names; at least one must be in the reference (optional).
+        time_s: (N,) our sample times, s, to quote our time step in an error (optional).
+        params: thresholds; defaults to :class:`AgreementParams`.
+
+    Raises:
+        FileNotFoundError: the file does not exist.
+        InputError: as :func:`read_time_table`.
+        NoCommonColumnsError: none of its columns is in ``our_columns``.
+        TimeAxisError: a time that is not finite or not strictly increasing.
+        ReferenceTimeUnitError: time steps that look like ms.
+    """
+    table = read_time_table(path, "reference")
+    if our_columns is not None and not any(c in our_columns for c in table.columns):
+        raise NoCommonColumnsError(list(table.columns), list(our_columns), str(path))
+    check_reference_time(table.time_s, time_s=time_s, path=str(path), params=params)
+    return table
 
 
 def read_calibrate_outputs(
@@ -171,6 +208,28 @@ def agreement_summary(comparison: Comparison, **extra: object) -> dict[str, obje
 def write_agreement_json(path: str | os.PathLike[str], summary: dict[str, object]) -> None:
     """Write ``agreement.json`` (strict JSON: NaN written as null)."""
     Path(path).write_text(json.dumps(_finite(summary), indent=2) + "\n", encoding="utf-8")
+
+
+def _csv_rows(path: Path, what: str) -> list[list[str]]:
+    """The rows of a CSV file read as UTF-8 (a BOM allowed); other text is refused by name."""
+    data = path.read_bytes()
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as e:
+        offset = e.start + (len(codecs.BOM_UTF8) if data.startswith(codecs.BOM_UTF8) else 0)
+        line = data.count(b"\n", 0, offset) + 1
+        raise InputError(
+            f"{what} {path} is not UTF-8 text (byte {data[offset]:#04x} at offset {offset}, line "
+            f"{line}); save it as UTF-8 (e.g. 'CSV UTF-8' in Excel)"
+        ) from None
+    if "\x00" in text:
+        raise InputError(f"{what} {path} is a binary file, not a CSV; export it as comma-separated text")
+    try:
+        return list(csv.reader(io.StringIO(text, newline="")))
+    except csv.Error as e:
+        raise InputError(
+            f"{what} {path} is not a readable CSV ({e}); export it as comma-separated text"
+        ) from None
 
 
 def _cell(v: object) -> object:

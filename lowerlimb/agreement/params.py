@@ -24,6 +24,24 @@ class AgreementParams:
             only computed when at least this fraction of our samples fall
             inside the shifted reference, so that an offset cannot win on a
             few overlapping samples.
+        min_reference_rate_hz: a reference whose median time step is longer
+            than ``1 / min_reference_rate_hz`` is refused: its time is taken
+            to be in ms (the trial reader's threshold, ``io.trial.MIN_RATE_HZ``).
+        min_span_overlap_fraction: the time spans of lowerlimb and the
+            reference must overlap over at least this fraction of the shorter
+            span (with ``align_time``, at the best shift within the search
+            window); less is refused as a clock or unit mistake.
+        unit_factor_tolerance: a reference column is taken to be in another
+            unit only when its size differs from ours by that unit's factor
+            (180/π for radians, 1000 for mm, 100 for cm) within this factor
+            either way; a constant or wildly different column is not a unit
+            mistake.
+        max_radians_range: a reference angle column whose range over the
+            overlap is below this (about π, in its own unit) may be radians…
+        min_radians_check_range_deg: …when our angle moves at least this
+            much, deg, over the same samples (a still joint proves nothing).
+        max_position_m: a reference position column whose RMS exceeds this,
+            m, may be in mm or cm (a leg's positions stay within ~1.2 m).
     """
 
     loa_z: float = 1.96
@@ -31,3 +49,9 @@ class AgreementParams:
     max_offset_s: float = 2.0
     min_samples: int = 3
     min_overlap_fraction: float = 0.5
+    min_reference_rate_hz: float = 5.0
+    min_span_overlap_fraction: float = 0.25
+    unit_factor_tolerance: float = 3.0
+    max_radians_range: float = 3.2
+    min_radians_check_range_deg: float = 20.0
+    max_position_m: float = 3.0

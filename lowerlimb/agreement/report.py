@@ -20,8 +20,7 @@ from ..conventions import ANGLE_COLUMNS, POSITION_COLUMNS, FloatArray
 from ..io.tables import ANGLE_UNIT, POSITION_UNIT
 from .bland_altman import plot_bland_altman
 from .comparison import Comparison, compare_series
-from .errors import NoCommonColumnsError
-from .files import Table, read_time_table
+from .files import Table, read_reference_table
 
 #: Our columns of a one-leg result folder and their units.
 RESULT_COLUMN_UNITS: dict[str, str] = {c: ANGLE_UNIT for c in ANGLE_COLUMNS[1:]} | {
@@ -30,18 +29,18 @@ RESULT_COLUMN_UNITS: dict[str, str] = {c: ANGLE_UNIT for c in ANGLE_COLUMNS[1:]}
 _GROUPS = {ANGLE_UNIT: "Joint angles", POSITION_UNIT: "Positions"}
 
 
-def read_reference(path: str | os.PathLike[str]) -> Table:
+def read_reference(path: str | os.PathLike[str], time_s: FloatArray | None = None) -> Table:
     """Read a reference CSV and check that it shares a column with ``angles.csv``/``positions.csv``.
+
+    ``time_s``, (N,) our sample times, s, when known, is quoted in a time-unit error.
 
     Raises:
         FileNotFoundError: the file does not exist.
-        InputError: not a table with a ``time`` column (:func:`read_time_table`).
-        NoCommonColumnsError: none of its columns is one of ours.
+        InputError: not a UTF-8 table with a ``time`` column, a column named twice, time not
+            strictly increasing or in ms (:func:`~lowerlimb.agreement.files.read_reference_table`).
+        NoCommonColumnsError: none of its columns is one of ours (checked before the time).
     """
-    table = read_time_table(path, "reference")
-    if not any(c in RESULT_COLUMN_UNITS for c in table.columns):
-        raise NoCommonColumnsError(list(table.columns), list(RESULT_COLUMN_UNITS), str(path))
-    return table
+    return read_reference_table(path, our_columns=list(RESULT_COLUMN_UNITS), time_s=time_s)
 
 
 def compare_result(

@@ -54,7 +54,7 @@ def run(args: argparse.Namespace) -> int:
     from lowerlimb.agreement.files import (
         agreement_summary,
         read_calibrate_outputs,
-        read_time_table,
+        read_reference_table,
         write_agreement_csv,
         write_agreement_json,
     )
@@ -65,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
     if out.exists():
         raise InputError(f"{out} already exists; choose a new --out directory")
     time_s, ours, units = read_calibrate_outputs(args.dir)
-    ref = read_time_table(args.reference, "reference")
+    ref = read_reference_table(args.reference, our_columns=list(ours), time_s=time_s)
     comparison = compare_series(
         time_s,
         ours,
