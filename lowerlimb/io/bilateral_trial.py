@@ -33,6 +33,7 @@ from .trial import (
     column_names,
     has_all_mag,
     read_numbers,
+    unreadable_csv,
 )
 
 __all__ = ["LAYOUTS", "BilateralTrial", "read_header", "trial_layout", "with_file_names"]
@@ -48,7 +49,7 @@ def read_header(path: str | os.PathLike[str]) -> list[str]:
 
     Raises:
         FileNotFoundError: ``path`` does not exist.
-        InputError: the file is empty.
+        InputError: the file is empty, its header is not UTF-8, or the csv module cannot read it.
     """
     path = os.fspath(path)
     if not os.path.isfile(path):
@@ -58,6 +59,12 @@ def read_header(path: str | os.PathLike[str]) -> list[str]:
             return [h.strip() for h in next(csv.reader(f))]
         except StopIteration:
             raise InputError(f"{path} is empty; give a trial CSV with a header row") from None
+        except UnicodeDecodeError as e:
+            raise InputError(
+                f"{path} is not UTF-8 text (byte {e.object[e.start]:#04x}); save the trial CSV as UTF-8"
+            ) from None
+        except csv.Error as e:
+            raise unreadable_csv(path, e) from None
 
 
 def trial_layout(header: list[str]) -> str:
@@ -84,7 +91,7 @@ def with_file_names(e: InputError, side: str) -> InputError:
     out = type(e).__new__(type(e))  # the same subclass, its data copied (constructors differ)
     out.__dict__.update(e.__dict__)
     out.args = (_LEG_SENSOR.sub(lambda m: f"{side}_{m.group(1)}", str(e)),) + tuple(e.args[1:])
-    for attr in ("column", "signal"):
+    for attr in ("column", "signal", "sensor"):
         value = getattr(e, attr, None)
         if isinstance(value, str):
             setattr(out, attr, _LEG_SENSOR.sub(lambda m: f"{side}_{m.group(1)}", value))

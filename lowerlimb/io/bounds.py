@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from ..conventions import GRAVITY_MPS2
 from ..errors import InputError
 
 __all__ = ["INPUT_BOUNDS", "InputBounds", "check_range", "check_vectors"]
@@ -32,7 +33,9 @@ class InputBounds:
         height_m: (min, max) subject stature, m.
         mass_kg: (min, max) subject mass, kg.
         duration_s: (min, max) length of a simulated trial, s.
-        rate_hz: (min, max) sampling rate of a simulated trial, Hz.
+        rate_hz: (min, max) sampling rate, Hz: of a simulated trial, and the
+            ``resample_hz`` of a CSV mapping; the max also bounds the update rate of
+            an Xsens export and the source clock of an imported CSV.
         max_samples: most samples of a simulated trial (duration × rate).
         max_seed: largest random seed (seeds are 0 … max_seed).
         min_motion_gyro_std_rps: a trial whose thigh, shank or foot gyro varies
@@ -42,6 +45,10 @@ class InputBounds:
         max_sample_abs: largest magnitude of one accelerometer (m/s²) or gyro (rad/s)
             sample of a trial: beyond every body-worn sensor's range in any unit
             (1000 g, 10 000 deg/s), so a larger one is a glitch in the file.
+        max_median_acc_mps2: largest median accelerometer magnitude of one sensor over
+            a trial, m/s². A body-worn accelerometer reads about gravity most of the
+            time, even on a walking foot, so a median far above it (4 g) is not an
+            accelerometer in m/s²: gyro columns mapped as accelerometer, or cm/s², mm/s².
     """
 
     max_center_m: float = 1.0
@@ -54,6 +61,7 @@ class InputBounds:
     min_motion_gyro_std_rps: float = 0.05
     max_json_bytes: int = 200_000_000
     max_sample_abs: float = 1.0e4
+    max_median_acc_mps2: float = 4.0 * GRAVITY_MPS2
 
 
 #: The bounds used unless a caller passes others.

@@ -7,7 +7,8 @@ Schema (``format`` is optional; unknown keys are refused so that typos surface):
       "delimiter": ",",              # optional, one character (default ","; "\t" for tabs)
       "decimal": ".",                # optional, "." or "," (default ".")
       "time": {"column": "Timestamp", "unit": "ms"},     # unit: s, ms, us, ns
-      "resample_hz": 100,            # optional: linear interpolation onto a uniform clock
+      "resample_hz": 100,            # optional: linear interpolation onto a uniform clock,
+                                     #   within InputBounds.rate_hz (20 to 2000 Hz)
       "side": "left",                # optional, single leg only (default left)
       "sensors": {
         "pelvis": {
@@ -21,7 +22,11 @@ Schema (``format`` is optional; unknown keys are refused so that typos surface):
 
 ``sensors`` holds either ``pelvis, thigh, shank, foot`` or the two-leg names
 ``pelvis, left_thigh, left_shank, left_foot, right_thigh, right_shank,
-right_foot``. ``mag`` must be given for every sensor or for none.
+right_foot``. ``mag`` must be given for every sensor or for none. Every key,
+also inside ``time`` and the ``acc``/``gyr``/``mag`` entries, is checked, and
+each source column may feed one signal only (the time column included): a
+column named twice is a copy-paste slip that would make two axes, or two
+sensors, read the same data.
 """
 
 from __future__ import annotations
@@ -33,12 +38,17 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from .errors import MappingError
+from .bounds import INPUT_BOUNDS
+from .errors import ColumnReusedError, MappingError
 from .recording import sensor_layout
+from .text_file import read_text
 from .units import QUANTITY_UNITS, TIME_UNITS
 
 MAPPING_FORMAT = "lowerlimb-csv-mapping/1"
 _TOP_KEYS = {"format", "delimiter", "decimal", "time", "resample_hz", "side", "sensors"}
+#: The keys of ``time`` and of one ``acc``/``gyr``/``mag`` entry.
+_TIME_KEYS = ("column", "unit")
+_QUANTITY_KEYS = ("columns", "unit")
 
 
 @dataclass(frozen=True)
@@ -76,7 +86,9 @@ class CsvMapping:
         """Check a mapping read from JSON.
 
         Raises:
-            MappingError: naming the first bad field.
+            MappingError: naming the first bad field (a wrong type, an unknown key, a unit or
+                ``resample_hz`` out of range); :class:`ColumnReusedError` for a source column
+                mapped twice.
         """
         if not isinstance(data, Mapping):
             raise MappingError("(top level)", "the mapping must be a JSON object")
@@ -96,16 +108,10 @@ class CsvMapping:
         time = data.get("time")
         if not isinstance(time, Mapping):
             raise MappingError("time", 'give {"column": NAME, "unit": "s"|"ms"|"us"|"ns"}')
+        _known_keys(time, _TIME_KEYS, "time")
         time_column = _text(time, "column", None, "time.column")
         time_unit = _unit(time, "time.unit", TIME_UNITS)
-        resample = data.get("resample_hz")
-        if resample is not None and (
-            isinstance(resample, bool)
-            or not isinstance(resample, (int, float))
-            or not math.isfinite(resample)
-            or resample <= 0
-        ):
-            raise MappingError("resample_hz", f"give a positive rate in Hz, got {resample!r}")
+        resample = _resample_hz(data.get("resample_hz"))
         side = data.get("side")
         if side is not None and side not in ("left", "right"):
             raise MappingError("side", f"give 'left' or 'right', got {side!r}")
@@ -120,13 +126,14 @@ class CsvMapping:
         if with_mag and len(with_mag) != len(layout):
             lacking = next(s for s in layout if "mag" not in sensors[s])
             raise MappingError(f"sensors.{lacking}.mag", "give mag for every sensor or for none")
+        _check_columns_once(time_column, sensors)
         return cls(
             time_column=time_column,
             time_unit=time_unit,
             sensors=sensors,
             delimiter=delimiter,
             decimal=decimal,
-            resample_hz=None if resample is None else float(resample),
+            resample_hz=resample,
             side=side,
         )
 
@@ -136,16 +143,26 @@ class CsvMapping:
 
         Raises:
             FileNotFoundError: when ``path`` does not exist.
-            MappingError: invalid JSON or a bad field.
+            NotTextError: ``path`` is a folder, a binary file or not UTF-8.
+            MappingError: a file over :attr:`InputBounds.max_json_bytes`, invalid (or too
+                deeply nested) JSON, or a bad field.
         """
         path = os.fspath(path)
-        if not os.path.isfile(path):
+        if not os.path.exists(path):
             raise FileNotFoundError(f"mapping file not found: {path}")
+        if os.path.isfile(path) and os.path.getsize(path) > INPUT_BOUNDS.max_json_bytes:
+            raise MappingError(
+                "(file)",
+                f"{path} holds {os.path.getsize(path)} bytes, more than a mapping ever needs "
+                f"({INPUT_BOUNDS.max_json_bytes}); give the mapping JSON, not the data",
+            )
+        text = read_text(path, "a CSV mapping (JSON)", export_fix="give the mapping JSON file")
         try:
-            with open(path, encoding="utf-8-sig") as f:
-                data = json.load(f)
+            data = json.loads(text)
         except json.JSONDecodeError as e:
             raise MappingError("(file)", f"{path} is not valid JSON ({e}); fix the syntax") from None
+        except RecursionError:
+            raise MappingError("(file)", f"{path} nests its JSON too deeply; give a mapping JSON") from None
         return cls.from_dict(data)
 
 
@@ -158,9 +175,54 @@ def _text(d: Mapping[str, Any], key: str, default: str | None, field: str | None
 
 def _unit(d: Mapping[str, Any], field: str, units: Mapping[str, float]) -> str:
     unit = d.get("unit")
+    if not isinstance(unit, str):
+        what = "missing" if unit is None else f"give the unit as a string, not {unit!r}"
+        raise MappingError(field, f"{what}; use one of {', '.join(units)}")
     if unit not in units:
         raise MappingError(field, f"unknown unit {unit!r}; use one of {', '.join(units)}")
-    return str(unit)
+    return unit
+
+
+def _known_keys(d: Mapping[str, Any], keys: tuple[str, ...], field: str) -> None:
+    """Refuse a key of the object at ``field`` that is not one of ``keys`` (a typo would be ignored)."""
+    stray = sorted(str(k) for k in d if k not in keys)
+    if stray:
+        raise MappingError(f"{field}.{stray[0]}", f"unknown key; the keys are {', '.join(keys)}")
+
+
+def _resample_hz(value: Any) -> float | None:
+    """``resample_hz`` as a float within :attr:`InputBounds.rate_hz`, or None when not given."""
+    if value is None:
+        return None
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, (int, float))
+        or not math.isfinite(value)
+        or value <= 0
+    ):
+        raise MappingError("resample_hz", f"give a positive rate in Hz, got {value!r}")
+    lo, hi = INPUT_BOUNDS.rate_hz
+    if not lo <= value <= hi:
+        raise MappingError(
+            "resample_hz", f"{value:g} Hz is out of range; give a sampling rate from {lo:g} to {hi:g} Hz"
+        )
+    return float(value)
+
+
+def _check_columns_once(time_column: str, sensors: Mapping[str, Mapping[str, ColumnTriple]]) -> None:
+    """Refuse a source column mapped twice (time column included).
+
+    Raises:
+        ColumnReusedError: naming the column and the mapping fields of its two uses.
+    """
+    seen = {time_column: "time.column"}
+    for sensor, quantities in sensors.items():
+        for q, triple in quantities.items():
+            for axis, column in enumerate(triple.columns):
+                field = f"sensors.{sensor}.{q}.columns[{axis}]"
+                if column in seen:
+                    raise ColumnReusedError(column, seen[column], field)
+                seen[column] = field
 
 
 def _sensor(d: Any, field: str) -> dict[str, ColumnTriple]:
@@ -178,6 +240,7 @@ def _sensor(d: Any, field: str) -> dict[str, ColumnTriple]:
         entry = d[q]
         if not isinstance(entry, Mapping):
             raise MappingError(f"{field}.{q}", 'give {"columns": [X, Y, Z], "unit": …}')
+        _known_keys(entry, _QUANTITY_KEYS, f"{field}.{q}")
         cols = entry.get("columns")
         if (
             not isinstance(cols, (list, tuple))

@@ -51,3 +51,39 @@ class PacketGapError(InputError):
             f"{limit_s:.3g} s that may be filled by interpolation; cut the recording before or "
             f"after the gap, or raise ImportParams.max_gap_s"
         )
+
+
+class NotTextError(InputError):
+    """A file that must be text is a folder, a device or pipe, a binary or compressed file, or not UTF-8.
+
+    Attributes:
+        path: the file.
+        problem: ``"folder"``, ``"special"`` (a device or pipe), ``"binary"`` or ``"encoding"``.
+        offset: for ``"encoding"``, the byte offset of the first byte that is not UTF-8; else None.
+    """
+
+    def __init__(self, path: str, problem: str, message: str, offset: int | None = None) -> None:
+        self.path = path
+        self.problem = problem
+        self.offset = offset
+        super().__init__(message)
+
+
+class ColumnReusedError(MappingError):
+    """A mapping feeds one source column into two signals (a copy-paste slip in the mapping).
+
+    Attributes:
+        column: the source column.
+        first: the mapping field of its first use (e.g. ``"sensors.thigh.acc.columns[0]"``).
+        second: the mapping field of its second use.
+    """
+
+    def __init__(self, column: str, first: str, second: str) -> None:
+        self.column = column
+        self.first = first
+        self.second = second
+        super().__init__(
+            second,
+            f"column {column!r} is also mapped as {first}; a source column feeds one signal, "
+            f"so fix the column name of one of the two",
+        )

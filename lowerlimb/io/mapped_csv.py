@@ -15,12 +15,17 @@ Choices:
   source sample; the source time must increase, and an interval between two
   source samples longer than :attr:`ImportParams.max_gap_s` is refused
   (interpolating across it would invent motion).
-- Units are converted with the factors of :mod:`lowerlimb.io.units`.
+- Units are converted with the factors of :mod:`lowerlimb.io.units`. A time
+  unit that makes the source clock faster than
+  :attr:`InputBounds.rate_hz <lowerlimb.io.bounds.InputBounds.rate_hz>` allows
+  is refused as a wrong ``time.unit`` (ms data declared ``us``) when the trial
+  is not resampled or would be too short; the message names the unit that fits.
 """
 
 from __future__ import annotations
 
 import csv
+import io
 import os
 from collections.abc import Mapping
 from typing import Any
@@ -28,13 +33,15 @@ from typing import Any
 import numpy as np
 
 from lowerlimb.conventions import FloatArray
-from lowerlimb.errors import InputError, NonFiniteValueError, TimeAxisError, TooShortError
-from lowerlimb.io.trial import MIN_DURATION_S, ImuTrial
+from lowerlimb.errors import InputError, NonFiniteValueError, TimeAxisError, TooShortError, UnitError
+from lowerlimb.io.trial import MIN_DURATION_S, ImuTrial, unreadable_csv
 
+from .bounds import INPUT_BOUNDS
 from .csv_mapping import CsvMapping
 from .errors import ColumnNotFoundError, PacketGapError
 from .params import ImportParams
 from .recording import ImportedRecording
+from .text_file import read_text
 from .units import QUANTITY_UNITS, TIME_UNITS
 
 
@@ -47,9 +54,22 @@ def _as_mapping(mapping: CsvMapping | Mapping[str, Any] | str | os.PathLike[str]
 
 
 def _read_columns(path: str, m: CsvMapping, names: list[str]) -> FloatArray:
-    """(N, len(names)) floats of the named columns; empty cells are NaN."""
-    with open(path, newline="", encoding="utf-8-sig") as f:
-        rows = [r for r in csv.reader(f, delimiter=m.delimiter) if any(c.strip() for c in r)]
+    """(N, len(names)) floats of the named columns; empty cells are NaN.
+
+    Raises:
+        NotTextError: a folder, a binary file or non-UTF-8 text.
+        InputError: an empty file, a cell the csv module cannot read, or a non-numeric cell.
+        ColumnNotFoundError: a name not in the header.
+    """
+    text = read_text(path, "a CSV file", export_fix="export the recording as CSV text")
+    try:
+        rows = [
+            r
+            for r in csv.reader(io.StringIO(text, newline=""), delimiter=m.delimiter)
+            if any(c.strip() for c in r)
+        ]
+    except csv.Error as e:
+        raise unreadable_csv(path, e) from None
     if not rows:
         raise InputError(f"{path} is empty; give a CSV with a header row")
     header = [h.strip() for h in rows[0]]
@@ -71,6 +91,49 @@ def _read_columns(path: str, m: CsvMapping, names: list[str]) -> FloatArray:
                     f"fix the cell, or the delimiter/decimal of the mapping"
                 ) from None
     return out
+
+
+def check_time_unit(time_s: FloatArray, m: CsvMapping) -> None:
+    """Refuse a ``time.unit`` that makes the source clock implausibly fast (ms data declared ``us``).
+
+    The clock is refused when its median step gives a rate above
+    :attr:`InputBounds.rate_hz <lowerlimb.io.bounds.InputBounds.rate_hz>` and the
+    trial is either not resampled or shorter than :data:`MIN_DURATION_S` (a fast
+    source resampled to a plausible rate is fine).
+
+    Args:
+        time_s: (N,) source times converted with ``m.time_unit``, s, starting at 0.
+        m: the mapping (its ``time_unit`` and ``resample_hz``).
+
+    Raises:
+        UnitError: naming ``time.unit``, the rate it gives, and the unit that fits when one does.
+    """
+    steps = np.diff(time_s)
+    med = float(np.median(steps)) if steps.size else 0.0
+    lo, hi = INPUT_BOUNDS.rate_hz
+    if not med > 0 or 1.0 / med <= hi:
+        return
+    duration = float(time_s[-1])
+    if m.resample_hz is not None and duration >= MIN_DURATION_S:
+        return
+    raw_step = med / TIME_UNITS[m.time_unit]
+    fits = [
+        (u, 1.0 / (raw_step * f))
+        for u, f in TIME_UNITS.items()
+        if f > TIME_UNITS[m.time_unit] and lo <= 1.0 / (raw_step * f) <= hi
+    ]
+    fix = (
+        f'if the time column is in {fits[0][0]}, set "unit": "{fits[0][0]}" in the mapping\'s "time" '
+        f"(a rate of {fits[0][1]:.4g} Hz)"
+        if fits
+        else 'check the mapping\'s time unit, or add "resample_hz" to the mapping to resample the trial'
+    )
+    raise UnitError(
+        "time.unit",
+        1.0 / med,
+        f"time steps of {raw_step:.4g} {m.time_unit} give a rate of {1.0 / med:.4g} Hz and a "
+        f"{duration:.3g} s trial, faster than the {hi:g} Hz a trial may have; {fix}",
+    )
 
 
 def resample_uniform(
@@ -131,13 +194,16 @@ def load_mapped_csv(
         FileNotFoundError: the CSV or mapping file does not exist.
         MappingError: a bad mapping field.
         ColumnNotFoundError: a mapped column is not in the CSV header.
-        NonFiniteValueError, TimeAxisError, PacketGapError: bad time or samples when resampling.
+        NotTextError: the CSV (or the mapping file) is a folder, a binary file or not UTF-8.
+        UnitError: a ``time.unit`` that makes the clock implausibly fast (:func:`check_time_unit`).
+        NonFiniteValueError: an empty or non-finite time cell, or bad samples when resampling.
+        TimeAxisError, PacketGapError: bad time when resampling.
         InputError: an empty file or a non-numeric cell.
     """
     params = params or ImportParams()
     m = _as_mapping(mapping)
     path = os.fspath(path)
-    if not os.path.isfile(path):
+    if not os.path.exists(path):
         raise FileNotFoundError(f"CSV file not found: {path}")
     names = [m.time_column]
     for quantities in m.sensors.values():
@@ -148,9 +214,11 @@ def load_mapped_csv(
     if raw.shape[0] < 2:
         raise TooShortError(0.0, MIN_DURATION_S)
     t = raw[:, 0] * TIME_UNITS[m.time_unit]
-    if not np.isfinite(t[0]):
-        raise NonFiniteValueError(m.time_column, 1)
+    bad_t = np.flatnonzero(~np.isfinite(t))
+    if bad_t.size:
+        raise NonFiniteValueError(m.time_column, int(bad_t[0]) + 1)
     t = t - t[0]
+    check_time_unit(t, m)
     data = raw[:, 1:]
     if m.resample_hz is not None:
         t, data = resample_uniform(t, data, m.resample_hz, params.max_gap_s, names[1:])

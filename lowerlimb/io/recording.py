@@ -18,7 +18,7 @@ import numpy as np
 
 from lowerlimb.conventions import SENSORS, SIDES, FloatArray, check_side
 from lowerlimb.errors import InputError
-from lowerlimb.io.trial import ImuTrial, column_names
+from lowerlimb.io.trial import ImuTrial, check_distinct_sensors, column_names
 
 from .errors import MappingError
 
@@ -137,6 +137,8 @@ class ImportedRecording:
 
         Raises:
             InputError: the first problem found; for two legs prefixed with the leg.
+            IdenticalSensorsError: two sensors of a two-leg recording (e.g. ``left_thigh``
+                and ``right_thigh``) hold identical data.
         """
         if not self.two_leg:
             self.to_trial()
@@ -146,6 +148,7 @@ class ImportedRecording:
                 self._leg_trial(side, f"{side}_").validate()
             except InputError as e:
                 raise InputError(f"{side} leg: {e}") from e
+        check_distinct_sensors(self.acc, self.gyr, TWO_LEG_SENSORS)
 
     def header(self) -> list[str]:
         """Trial-CSV header (docs/formats.md: single-leg or two-leg names)."""

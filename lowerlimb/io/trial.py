@@ -30,6 +30,7 @@ from ..errors import (
 )
 from ..stillness import StillPeriod, detect_still_period
 from .bounds import INPUT_BOUNDS
+from .text_file import BINARY_MAGIC
 from .time_axis import TimeAxis
 
 #: Lowest sampling rate accepted, Hz: below it the time column is taken to be in ms.
@@ -70,6 +71,31 @@ def check_distinct_sensors(
                 raise IdenticalSensorsError(a, b)
 
 
+class ImplausibleAccelerometerError(UnitError):
+    """An accelerometer whose median magnitude is far above gravity: its columns are not m/s².
+
+    Attributes:
+        sensor: the sensor (as named in the trial).
+        median_mps2: its median accelerometer magnitude over the trial, m/s² (also ``value``).
+        limit_mps2: the largest plausible median
+            (:attr:`~lowerlimb.io.bounds.InputBounds.max_median_acc_mps2`), m/s².
+    """
+
+    def __init__(self, sensor: str, median_mps2: float, limit_mps2: float) -> None:
+        self.sensor = sensor
+        self.median_mps2 = median_mps2
+        self.limit_mps2 = limit_mps2
+        super().__init__(
+            f"{sensor}_acc",
+            median_mps2,
+            f"the {sensor} accelerometer reads a median magnitude of {median_mps2:.4g} m/s², far above "
+            f"gravity ({GRAVITY_MPS2} m/s²; a body-worn sensor's median stays below {limit_mps2:.3g}): "
+            f"these columns are not an accelerometer in m/s²; likely the gyro columns are mapped as "
+            f"the accelerometer (acc and gyr exchanged), or the unit is cm/s² or mm/s² (divide by 100 "
+            f"or 1000); check the column mapping and the units of the export",
+        )
+
+
 class NoMotionError(InputError):
     """The trial holds no motion to calibrate the joints from; carries the gyro variation (rad/s)."""
 
@@ -93,6 +119,11 @@ class StandingStartWarning(UserWarning):
 
 class PartialMagnetometerWarning(UserWarning):
     """Some sensors have magnetometer columns and some do not: none is used (6-axis)."""
+
+
+def _median_norm(x: FloatArray) -> float:
+    """Median magnitude of (N, 3) samples."""
+    return float(np.median(np.linalg.norm(x, axis=1)))
 
 
 def column_names(sensor: str, signal: str) -> list[str]:
@@ -153,7 +184,9 @@ class ImuTrial(TimeAxis):
             NonFiniteValueError: NaN or inf in any signal.
             SampleGlitchError: an accelerometer or gyro sample beyond any sensor's range
                 (:attr:`~lowerlimb.io.bounds.InputBounds.max_sample_abs`).
-            UnitError: gyro in deg/s or accelerometer in g.
+            UnitError: gyro in deg/s or accelerometer in g;
+                :class:`ImplausibleAccelerometerError` for an accelerometer whose median
+                magnitude is far above gravity (gyro columns, or cm/s² or mm/s²).
             TooShortError: fewer than 2 s of data.
             InputError: wrong array shapes or an unknown side.
         """
@@ -182,8 +215,14 @@ class ImuTrial(TimeAxis):
                     r, c = bad[0]
                     raise NonFiniteValueError(f"{sensor}_{name}_{'xyz'[c]}", int(r) + 1)
                 huge = np.argwhere(np.abs(x) > INPUT_BOUNDS.max_sample_abs)
-                # a few such samples are glitches; a signal mostly beyond is in another unit (below)
-                if name != "mag" and huge.size and huge.shape[0] < 0.5 * x.shape[0]:
+                # a few such samples are glitches; a signal mostly beyond, or an accelerometer whose
+                # median is far above gravity, is in another unit (below)
+                if (
+                    name != "mag"
+                    and huge.size
+                    and huge.shape[0] < 0.5 * x.shape[0]
+                    and not (name == "acc" and _median_norm(x) > INPUT_BOUNDS.max_median_acc_mps2)
+                ):
                     r, c = huge[0]
                     raise SampleGlitchError(f"{sensor}_{name}_{'xyz'[c]}", int(r) + 1, float(x[r, c]))
         dt = np.diff(t)
@@ -216,7 +255,7 @@ class ImuTrial(TimeAxis):
                     f"{sensor} gyro values up to {gmax:.0f} look like deg/s; "
                     f"the trial format expects rad/s (multiply by π/180)",
                 )
-            amed = float(np.median(np.linalg.norm(self.acc[sensor], axis=1)))
+            amed = _median_norm(self.acc[sensor])
             if not np.any(self.acc[sensor]):
                 raise InputError(
                     f"the {sensor} accelerometer columns are all zero: the sensor recorded nothing; "
@@ -242,6 +281,8 @@ class ImuTrial(TimeAxis):
                     f"{sensor} accelerometer median magnitude {amed:.2f} looks like g; "
                     f"the trial format expects m/s² (multiply by {GRAVITY_MPS2})",
                 )
+            if amed > INPUT_BOUNDS.max_median_acc_mps2:
+                raise ImplausibleAccelerometerError(sensor, amed, INPUT_BOUNDS.max_median_acc_mps2)
         if self.duration_s < MIN_DURATION_S:
             raise TooShortError(self.duration_s, MIN_DURATION_S)
         check_distinct_sensors(self.acc, self.gyr, SENSORS)
@@ -387,21 +428,11 @@ class ImuTrial(TimeAxis):
         )
 
 
-#: The first bytes of files that are not text: gzip, zip, xlsx (zip), 7z, bzip2, xz.
-_BINARY_MAGIC = {
-    b"\x1f\x8b": "gzip-compressed",
-    b"PK\x03\x04": "a zip archive (or an Excel .xlsx file)",
-    b"7z\xbc\xaf": "a 7-Zip archive",
-    b"BZh": "bzip2-compressed",
-    b"\xfd7zXZ": "xz-compressed",
-}
-
-
 def _read_header(path: str) -> list[str]:
     """The trial's header row, stripped; refuses binary, non-UTF-8 and non-comma files."""
     with open(path, "rb") as f:
         head = f.read(65536)
-    for magic, what in _BINARY_MAGIC.items():
+    for magic, what in BINARY_MAGIC.items():
         if head.startswith(magic):
             raise InputError(f"{path} is {what}, not a trial CSV; decompress or export it as CSV text")
     if b"\x00" in head:
@@ -416,7 +447,10 @@ def _read_header(path: str) -> list[str]:
         ) from None
     if not line.strip():
         raise InputError(f"{path} is empty; give a trial CSV with a header row")
-    header = [h.strip() for h in next(csv.reader([line]))]
+    try:
+        header = [h.strip() for h in next(csv.reader([line]))]
+    except csv.Error as e:
+        raise unreadable_csv(path, e) from None
     if "time" not in header:
         for sep, name in ((";", "semicolons"), ("\t", "tabs"), ("|", "vertical bars")):
             if sep in line and len(line.split(sep)) > len(header):
@@ -470,17 +504,25 @@ def read_numbers(path: str, header: list[str], usecols: list[int]) -> FloatArray
     rows: list[list[float]] = []
     with open(path, newline="", encoding="utf-8-sig") as f:
         reader = csv.reader(f)
-        next(reader)
-        for row_no, row in enumerate(reader, start=1):
-            if not row or all(not c.strip() for c in row):
-                continue
-            if len(row) != len(header):
-                raise InputError(
-                    f"{path} data row {row_no} has {len(row)} values but the header names "
-                    f"{len(header)} columns; fix the CSV"
-                )
-            rows.append([_cell_value(row[c], header[c], row_no) for c in usecols])
+        try:
+            next(reader)
+            for row_no, row in enumerate(reader, start=1):
+                if not row or all(not c.strip() for c in row):
+                    continue
+                if len(row) != len(header):
+                    raise InputError(
+                        f"{path} data row {row_no} has {len(row)} values but the header names "
+                        f"{len(header)} columns; fix the CSV"
+                    )
+                rows.append([_cell_value(row[c], header[c], row_no) for c in usecols])
+        except csv.Error as e:
+            raise unreadable_csv(path, e) from None
     return np.asarray(rows, dtype=float).reshape(-1, len(usecols))
+
+
+def unreadable_csv(path: str, error: csv.Error) -> InputError:
+    """The error for a file the csv module refuses (e.g. a cell over its field size limit)."""
+    return InputError(f"{path} is not a readable CSV ({error}); export the recording as CSV text again")
 
 
 def _cell_value(raw: str, column: str, row_no: int) -> float:

@@ -20,7 +20,12 @@ Choices:
   when more than :attr:`ImportParams.warn_fill_fraction` of the samples were
   filled. Empty Mag cells (a magnetometer sampled below the update rate) are
   interpolated the same way.
-- Time = (counter − first common counter) / update rate, s.
+- Time = (counter − first common counter) / update rate, s. The update rate
+  must be positive and at most the largest
+  :attr:`InputBounds.rate_hz <lowerlimb.io.bounds.InputBounds.rate_hz>`; a
+  counter cell must be a whole number from 0 to :data:`MAX_COUNTER`.
+- A file that is not UTF-8 text (a Latin-1 ``°`` in a comment line, a binary
+  file) is refused naming the file (:func:`~lowerlimb.io.text_file.read_text`).
 - Mag is exported in Xsens normalised units, where 1 is the magnitude of the
   local field at the MT magnetic calibration; it is multiplied by
   ``mag_field_ut`` (default :data:`~lowerlimb.io.params.XSENS_MAG_FIELD_UT`,
@@ -42,12 +47,16 @@ from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError
 from lowerlimb.io.trial import ImuTrial
 
+from .bounds import INPUT_BOUNDS
 from .errors import ColumnNotFoundError, MappingError, PacketGapError, SensorFileError
 from .params import XSENS_MAG_FIELD_UT, ImportParams
 from .recording import ImportedRecording, sensor_layout
+from .text_file import read_text
 
 #: Period of the Xsens 16-bit packet counter.
 COUNTER_PERIOD = 65536
+#: Largest PacketCounter value accepted (a 32-bit counter); a larger cell is corrupt.
+MAX_COUNTER = 2**32 - 1
 #: Extensions of MT Manager text exports.
 EXPORT_SUFFIXES = (".txt", ".csv")
 
@@ -144,22 +153,25 @@ def parse_xsens_export(path: str | os.PathLike[str]) -> XsensExport:
 
     Raises:
         FileNotFoundError: when ``path`` does not exist.
+        NotTextError: a folder, a binary file, or not UTF-8 text.
         ColumnNotFoundError: no PacketCounter, Acc_X..Z or Gyr_X..Z column.
-        InputError: no update rate, no header, a bad cell or a counter that runs backwards.
+        InputError: no update rate or one out of range, no header, a bad cell, a counter
+            that is not a packet number, or one that runs backwards.
     """
     path = os.fspath(path)
-    with open(path, encoding="utf-8-sig") as f:
-        lines = f.read().splitlines()
+    if not os.path.exists(path):
+        raise FileNotFoundError(f"export not found: {path}")
+    text = read_text(
+        path,
+        "an MT Manager text export",
+        export_fix="export it again from MT Manager as text",
+        folder_fix="move it out of the folder of exports, leaving one export file per sensor ID",
+    )
+    lines = text.splitlines()
     body = next((i for i, line in enumerate(lines) if line.strip() and not line.startswith("//")), None)
     if body is None:
         raise InputError(f"{path} has no header row; export it again from MT Manager")
-    rates = [float(m.group(1)) for line in lines[:body] if (m := _RATE.search(line))]
-    rate = rates[-1] if rates else None
-    if rate is None or rate <= 0:
-        raise InputError(
-            f"{path} has no '// Update Rate: …Hz' comment line; export with the header comments "
-            f"enabled (MT Manager export option) or add the line"
-        )
+    rate = _update_rate(path, lines[:body])
     delim = max(",\t;", key=lines[body].count)
     header = [h.strip() for h in lines[body].split(delim)]
     i_mag = _columns(header, ["Mag_X", "Mag_Y", "Mag_Z"])
@@ -170,15 +182,25 @@ def parse_xsens_export(path: str | os.PathLike[str]) -> XsensExport:
         + (i_mag or [])
     )
     rows = []
+    line_no = []
     for k, line in enumerate(lines[body + 1 :], start=body + 2):
         if not line.strip() or line.startswith("//"):
             continue
         cells = line.split(delim)
         rows.append([_cell(cells, i, header[i], f"{path} line {k}") for i in wanted])
+        line_no.append(k)
     data = np.array(rows, dtype=float).reshape(-1, len(wanted))
     if not np.all(np.isfinite(data[:, 0])):
         k = int(np.flatnonzero(~np.isfinite(data[:, 0]))[0])
         raise InputError(f"{path} data row {k + 1} has no PacketCounter; fix or remove the row")
+    raw_counter = data[:, 0]
+    bad = np.flatnonzero((raw_counter < 0) | (raw_counter > MAX_COUNTER) | (raw_counter % 1 != 0))
+    if bad.size:
+        k = int(bad[0])
+        raise InputError(
+            f"{path} line {line_no[k]}: PacketCounter {raw_counter[k]:.10g} is not a packet number "
+            f"(a whole number from 0 to {MAX_COUNTER}); fix or remove the row"
+        )
     ok = np.all(np.isfinite(data[:, 1:7]), axis=1)
     counter = unwrap_counter(data[:, 0].astype(np.int64))[ok]
     data = data[ok]
@@ -201,6 +223,28 @@ def parse_xsens_export(path: str | os.PathLike[str]) -> XsensExport:
         gyr=data[:, 4:7],
         mag=data[:, 7:10] if i_mag is not None else None,
     )
+
+
+def _update_rate(path: str, comments: list[str]) -> float:
+    """The rate of the last ``// Update Rate: …Hz`` line of ``comments``, Hz.
+
+    Raises:
+        InputError: no such line, or a rate that is not positive or above the largest
+            :attr:`InputBounds.rate_hz <lowerlimb.io.bounds.InputBounds.rate_hz>`.
+    """
+    rates = [float(m.group(1)) for line in comments if (m := _RATE.search(line))]
+    if not rates:
+        raise InputError(
+            f"{path} has no '// Update Rate: …Hz' comment line; export with the header comments "
+            f"enabled (MT Manager export option) or add the line"
+        )
+    hi = INPUT_BOUNDS.rate_hz[1]
+    if not 0 < rates[-1] <= hi:
+        raise InputError(
+            f"{path} says '// Update Rate: {rates[-1]:g}Hz', not a sampling rate (0 < rate ≤ {hi:g} Hz); "
+            f"correct the line to the rate the sensors recorded at, or export again from MT Manager"
+        )
+    return rates[-1]
 
 
 def _check_rates(exports: dict[str, XsensExport], params: ImportParams) -> float:
