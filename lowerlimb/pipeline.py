@@ -28,7 +28,7 @@ import numpy as np
 from .calibration import LegCalibration, calibrate_leg
 from .calibration.clock_sync import synchronise
 from .calibration.options import CalibrationOptions
-from .calibration.plausibility import check_side, pelvis_turn_side_cue
+from .calibration.plausibility import SIDE_MIN_MOTION_S, check_side, pelvis_turn_side_cue
 from .conventions import SENSORS, FloatArray, quat_from_matrix
 from .errors import InputError
 from .io.trial import ImuTrial
@@ -387,8 +387,10 @@ def process_trial(
         calib, motion, height_m=height_m, mass_kg=mass_kg, s2j=s2j, positions=positions
     )
     clock.stop("forward kinematics")
-    if side_check and trial.standing_samples(1.0, still) > 0:
-        # the pelvis frame's "right" comes from the standing reference: without one, no verdict
+    moving_s = trial.duration_s - trial.standing_samples(1.0, still) / trial.rate_hz
+    if side_check and trial.standing_samples(1.0, still) > 0 and moving_s >= SIDE_MIN_MOTION_S:
+        # the pelvis frame's "right" comes from the standing reference: without one, no verdict;
+        # a second of motion leaves the hip anywhere (a 2 s trial was called the other leg)
         g = model.geometry
         hip_ex = calib.hip.excitation
         check_side(

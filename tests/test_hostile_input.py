@@ -530,3 +530,16 @@ def test_the_wrong_kind_of_calibration_file_is_named(files, tmp_path, capsys, co
     cal.write_text(json.dumps(content))
     err = calibrate_refused(files, tmp_path, capsys, files["trial"], "--calibration", str(cal))
     assert message in err
+
+
+def test_a_two_second_trial_is_not_called_the_other_leg():
+    """One second of walking after the standing start left the hip anywhere: a left leg was
+    refused as a right one ("rerun with --side right")."""
+    from lowerlimb.io.trial import ImuTrial
+
+    t = ll.simulate("walk", 30.0, 3).trial
+    n = 201  # the first 2 s: 1 s standing, 1 s of walking
+    acc, gyr = ({k: v[:n] for k, v in d.items()} for d in (t.acc, t.gyr))
+    cut = ImuTrial(time_s=t.time_s[:n], acc=acc, gyr=gyr)
+    with pytest.warns(UserWarning, match="record a longer trial"):
+        ll.process_trial(cut)

@@ -72,6 +72,7 @@ from lowerlimb.errors import InputError
 __all__ = [
     "PlausibilityParams",
     "SensorOrderError",
+    "SIDE_MIN_MOTION_S",
     "SideEvidenceWarning",
     "SwapVetoWarning",
     "WrongSideError",
@@ -119,6 +120,11 @@ class PlausibilityParams:
     swap_hinge_veto: float = 1.5
     side_cue_lowpass_hz: float = 3.0
     side_cue_min_corr: float = 0.15
+
+
+#: Least motion after the standing start for a side verdict, s: with a second of walking
+#: (a 2 s trial) the hip centre lands anywhere and a left leg was called a right one.
+SIDE_MIN_MOTION_S = 2.0
 
 
 class SwapVetoWarning(UserWarning):
