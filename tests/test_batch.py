@@ -322,3 +322,11 @@ def test_trial_folders_follow_the_umask(tmp_path):
         os.umask(old)
     folders = [p for p in (tmp_path / "o").iterdir() if p.is_dir() and not p.name.startswith(".")]
     assert folders and all(p.stat().st_mode & 0o777 == 0o755 for p in folders)
+
+
+def test_a_hidden_trial_name_does_not_share_the_failed_records_folder(tmp_path):
+    """A manifest trial '.failed.csv' was written into '.failed', among the failure records."""
+    manifest = tmp_path / "m.csv"
+    manifest.write_text("trial\n.failed.csv\n")
+    (trial,) = read_study(manifest)
+    assert trial.name == "failed" and trial.name != FAILED_DIR
