@@ -187,8 +187,10 @@ def _in_range(
 
 
 def _folder_name(label: str) -> str:
-    """The trial's output folder: its path's parts joined by ``__``, never hidden (``.failed``
-    holds the failed trials' records)."""
+    """The trial's output folder: its path's parts joined by ``__``, never hidden.
+
+    (``.failed`` holds the failed trials' records.)
+    """
     parts = [part for part in Path(label).with_suffix("").parts if part not in ("", ".", "..", "/")]
     name = "__".join(parts).replace(" ", "_").lstrip(".")
     return name or "trial"
