@@ -509,12 +509,15 @@ def test_view_refuses_a_host_it_cannot_listen_on(host, message):
     check_host("127.0.0.1")
 
 
-def test_view_names_a_two_leg_folder(tmp_path, capsys):
-    """It blamed the URDF ("not a lowerlimb leg")."""
+def test_view_refuses_an_unknown_side_of_a_two_leg_folder(tmp_path):
+    """A two-leg folder was blamed on its URDF ("not a lowerlimb leg")."""
+    from lowerlimb.errors import InputError
+    from lowerlimb.viz.view import load_view_data
+
     for name in ("calibrated.urdf", "calibrated_left.urdf", "calibrated_right.urdf", "angles.csv"):
         (tmp_path / name).write_text("x")
-    err = refused(["view", str(tmp_path)], capsys)
-    assert "holds a two-leg result; view animates one leg only" in err
+    with pytest.raises(InputError, match="a two-leg result has the legs 'left' and 'right'"):
+        load_view_data(tmp_path, "both")
 
 
 @pytest.mark.parametrize(

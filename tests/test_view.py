@@ -184,3 +184,21 @@ def test_live_view_renders_in_headless_chromium(cal_dir, tmp_path):
     rows, _ = np.nonzero(orange)
     assert orange.sum() > 40, "no IMU box drawn in the live view"
     assert rows.max() - rows.min() > 150
+
+
+def test_a_two_leg_folder_shows_the_chosen_leg(tmp_path):
+    """It was refused as "not a lowerlimb leg" (the lower-body URDF)."""
+    from lowerlimb.io.bilateral_tables import BILATERAL_ANGLE_COLUMNS
+    from lowerlimb.model.leg_model import LegModel
+
+    for side in ("left", "right"):
+        LegModel.from_template(side).write_urdf(tmp_path / f"calibrated_{side}.urdf")
+    (tmp_path / "calibrated.urdf").write_text("<robot name='lower_body'/>")
+    t = np.arange(50) / 100.0
+    deg = np.column_stack([t, np.full((50, 9), 10.0), np.full((50, 9), -20.0)])
+    header = ",".join(BILATERAL_ANGLE_COLUMNS)
+    np.savetxt(tmp_path / "angles.csv", deg, delimiter=",", header=header, comments="")
+    for side, value in (("left", 10.0), ("right", -20.0), (None, 10.0)):
+        data = load_view_data(tmp_path, side)
+        assert data.model.side == (side or "left") and data.angles_rad.shape == (50, 9)
+        assert np.allclose(data.angles_rad, np.deg2rad(value))

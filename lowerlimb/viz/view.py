@@ -29,8 +29,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..conventions import ANGLE_COLUMNS, FloatArray
+from ..conventions import ANGLE_COLUMNS, SIDES, FloatArray
 from ..errors import InputError
+from ..io.bilateral_tables import BILATERAL_ANGLE_COLUMNS
 from ..io.tables import read_table
 from ..model.leg_model import LegModel
 from .meshcat_server import DEFAULT_HOST
@@ -98,11 +99,16 @@ class ViewSession:
         self.server = None
 
 
-def load_view_data(directory: str | os.PathLike[str]) -> ViewData:
+def load_view_data(directory: str | os.PathLike[str], side: str | None = None) -> ViewData:
     """Read ``calibrated.urdf`` and ``angles.csv`` (degrees → rad) from a calibration directory.
+
+    A two-leg directory gives one leg: ``calibrated_<side>.urdf`` and that side's nine
+    columns of its ``angles.csv``.
 
     Args:
         directory: output directory of ``lowerlimb calibrate``.
+        side: the leg of a two-leg directory (default ``"left"``); a one-leg directory's
+            leg is its own.
 
     Returns:
         The leg and its motion.
@@ -116,12 +122,13 @@ def load_view_data(directory: str | os.PathLike[str]) -> ViewData:
     if not d.is_dir():
         raise InputError(f"{d} is not a directory; {hint}")
     urdf, angles_csv = d / URDF_NAME, d / ANGLES_NAME
+    columns, keep = ANGLE_COLUMNS, slice(None)
     if (d / "calibrated_left.urdf").is_file() and (d / "calibrated_right.urdf").is_file():
-        raise InputError(
-            f"{d} holds a two-leg result; view animates one leg only: open calibrated.urdf (the "
-            f"lower body) in a URDF viewer, or calibrate one leg with 'lowerlimb calibrate "
-            f"TRIAL.csv --side left' on a four-sensor trial"
-        )
+        side = side or "left"
+        if side not in SIDES:
+            raise InputError(f"--side {side!r}: a two-leg result has the legs 'left' and 'right'")
+        urdf, columns = d / f"calibrated_{side}.urdf", BILATERAL_ANGLE_COLUMNS
+        keep = slice(0, 10) if side == "left" else np.r_[0, 10:19]
     for f in (urdf, angles_csv):
         if not f.is_file():
             raise InputError(f"{f} is missing; {hint}")
@@ -137,16 +144,17 @@ def load_view_data(directory: str | os.PathLike[str]) -> ViewData:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)  # numpy's "input contained no data"
-            table = read_table(angles_csv, ANGLE_COLUMNS)
+            table = read_table(angles_csv, columns)
     except ValueError as e:
         raise InputError(f"cannot read {angles_csv}: {e}") from e
     if table.size == 0:
         raise InputError(f"{angles_csv} has no data rows; write it again with 'lowerlimb calibrate'")
-    if table.shape[1] != len(ANGLE_COLUMNS):
+    if table.shape[1] != len(columns):
         raise InputError(
-            f"{angles_csv} has {table.shape[1]} values per row, expected {len(ANGLE_COLUMNS)} "
-            f"({', '.join(ANGLE_COLUMNS)})"
+            f"{angles_csv} has {table.shape[1]} values per row, expected {len(columns)} "
+            f"({', '.join(columns)})"
         )
+    table = table[:, keep]
     if not np.all(np.isfinite(table)):
         row = int(np.argwhere(~np.isfinite(table))[0, 0]) + 1
         raise InputError(f"{angles_csv} has a NaN or infinite value at data row {row}")
@@ -161,6 +169,7 @@ def build_animation(
     vis: meshcat.Visualizer | None = None,
     *,
     fps: float = DEFAULT_FPS,
+    side: str | None = None,
 ) -> LegAnimation:
     """Draw the directory's calibrated leg in ``vis`` and animate it over ``angles.csv``.
 
@@ -169,6 +178,7 @@ def build_animation(
         vis: a meshcat visualizer; by default a :class:`CommandRecorder`'s
             (no server is started, nothing blocks).
         fps: animation frame rate, Hz.
+        side: the leg of a two-leg directory (:func:`load_view_data`).
 
     Returns:
         The drawn animation.
@@ -176,7 +186,7 @@ def build_animation(
     Raises:
         InputError: see :func:`load_view_data`.
     """
-    data = load_view_data(directory)
+    data = load_view_data(directory, side)
     recorder = None
     if vis is None:
         recorder = CommandRecorder()
@@ -272,6 +282,7 @@ def serve(
     open_browser: bool = False,
     fps: float = DEFAULT_FPS,
     host: str = DEFAULT_HOST,
+    side: str | None = None,
 ) -> ViewSession:
     """Start a meshcat server (or connect to ``zmq_url``) and show the animated leg; returns at once.
 
@@ -281,6 +292,7 @@ def serve(
         open_browser: open the page in the default web browser.
         fps: animation frame rate, Hz.
         host: address the started server binds to (default: localhost only).
+        side: the leg of a two-leg directory (:func:`load_view_data`).
 
     Returns:
         The session; call :meth:`ViewSession.close` to stop the server.
@@ -289,7 +301,7 @@ def serve(
         InputError: see :func:`load_view_data` and :func:`check_host` (checked before any
             server starts).
     """
-    load_view_data(directory)  # fail before starting a server
+    load_view_data(directory, side)  # fail before starting a server
     if zmq_url is None:
         check_host(host)
     server = None
@@ -300,7 +312,7 @@ def serve(
             vis = _visualizer(zmq_url, web_url)
         else:
             vis = live_visualizer(zmq_url)
-        animation = build_animation(directory, vis, fps=fps)
+        animation = build_animation(directory, vis, fps=fps, side=side)
     except BaseException:
         _close_visualizer(vis)
         _stop(server)
@@ -312,7 +324,11 @@ def serve(
 
 
 def run_view(
-    directory: str | os.PathLike[str], *, open_browser: bool = False, host: str = DEFAULT_HOST
+    directory: str | os.PathLike[str],
+    *,
+    open_browser: bool = False,
+    host: str = DEFAULT_HOST,
+    side: str | None = None,
 ) -> None:
     """``lowerlimb view DIR``: serve the animated leg and print its URL until Ctrl-C or SIGTERM.
 
@@ -320,15 +336,17 @@ def run_view(
         directory: output directory of ``lowerlimb calibrate``.
         open_browser: also open the page in the default web browser.
         host: address the server binds to (default: localhost only).
+        side: the leg of a two-leg directory (default left).
 
     Raises:
         InputError: when the directory lacks ``calibrated.urdf`` or ``angles.csv``.
     """
-    session = serve(directory, open_browser=open_browser, host=host)
+    session = serve(directory, open_browser=open_browser, host=host, side=side)
     try:
         scene = session.animation.scene
         print(
-            f"lowerlimb: showing {directory} ({len(scene.frame_time_s)} frames, "
+            f"lowerlimb: showing {directory} ({session.animation.data.model.side} leg, "
+            f"{len(scene.frame_time_s)} frames, "
             f"{scene.frame_time_s[-1]:.1f} s) at {session.url}",
             flush=True,
         )
