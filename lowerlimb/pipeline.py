@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from .calibration import LegCalibration, calibrate_leg
+from .calibration.axial_sign import axial_sign_correlation, gyro_sign_is_clear
 from .calibration.clock_sync import synchronise
 from .calibration.options import CalibrationOptions
 from .calibration.plausibility import SIDE_MIN_MOTION_S, check_side, pelvis_turn_side_cue
@@ -266,6 +267,21 @@ def build_model(
     return model, chain_positions(model, motion.angles_rad, s2j.predict(motion.angles_rad)), s2j
 
 
+def _axial_witnesses(
+    trial: ImuTrial, still: StillPeriod, calib: LegCalibration, reused: bool
+) -> dict[tuple[str, str], float]:
+    """The knee's and ankle's axial-acceleration correlations (:mod:`~lowerlimb.calibration.axial_sign`).
+
+    The knee's comes from this trial's calibration (its accelerometer sign test), when its
+    gyros fixed the axes' direction; the ankle's is measured here. NaN: no verdict.
+    """
+    knee = calib.knee.axis
+    clear = not reused and gyro_sign_is_clear(knee.sign_coherence)
+    ankle = axial_sign_correlation(trial.acc, trial.gyr, trial.rate_hz, "shank", "foot", still=still)
+    knee_r = knee.acc_sign_correlation if clear else float("nan")
+    return {("thigh", "shank"): knee_r, ("shank", "foot"): ankle}
+
+
 class _Stopwatch:
     """Wall time of each stage, optionally printed as one line per stage on stderr."""
 
@@ -363,7 +379,8 @@ def process_trial(
 
     gyr = {s: trial.gyr[s] - calib.gyro_bias.get(s, np.zeros(3)) for s in SENSORS}
     if cal_options.check_signs:
-        signs = chain_sign_check(orientations.quat_wxyz, gyr, _CHAIN_EDGES, trial.rate_hz)
+        axial = _axial_witnesses(trial, still, calib, calibration is not None)
+        signs = chain_sign_check(orientations.quat_wxyz, gyr, _CHAIN_EDGES, trial.rate_hz, axial=axial)
         if signs.inverted:
             raise InvertedSignError(signs)
 

@@ -60,7 +60,8 @@ def test_a_lone_negative_edge_names_both_of_its_sensors():
     assert np.isnan(check.correlation[1]) and not check.decides[1]
     assert check.inverted == ("pelvis", "thigh") and check.ambiguous
     msg = str(InvertedSignError(check))
-    assert "the pelvis or the thigh turns about the vertical" in msg and "pelvis–thigh -1.00" in msg
+    assert "the pelvis or the thigh turns against the neighbouring segments" in msg
+    assert "pelvis–thigh about the vertical -1.00" in msg
     assert "one of them has its accelerometer or gyro sign inverted" in msg
     assert "thigh–shank" not in msg and "\n" not in msg
 
@@ -77,6 +78,21 @@ def test_the_pelvis_of_two_legs_is_one_sensor():
     check = chain_sign_check(*_turning(inverted=("pelvis",)), tree, RATE)
     assert check.inverted == ("pelvis",)
     assert check.to_dict()["inverted"] == ["pelvis"]
+
+
+def test_the_axial_witness_decides_a_walk_that_does_not_turn():
+    """A straight walk: the knee's and ankle's axial accelerations name the foot."""
+    still = ("pelvis", "thigh", "shank", "foot")
+    axial = {("thigh", "shank"): 0.95, ("shank", "foot"): -0.6}
+    check = chain_sign_check(*_turning(still=still), CHAIN, RATE, axial=axial)
+    assert check.inverted == ("foot",) and not check.ambiguous
+    assert "shank–foot along the joint axis -0.60" in str(InvertedSignError(check))
+    assert check.to_dict()["axial_correlation"]["shank-foot"] == -0.6
+
+
+def test_witnesses_that_disagree_decide_nothing():
+    check = chain_sign_check(*_turning(), CHAIN, RATE, axial={("shank", "foot"): -0.9})
+    assert check.inverted == () and not check.decides[2]
 
 
 # ---------------------------------------------------------------- through the pipeline

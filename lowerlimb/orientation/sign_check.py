@@ -55,11 +55,15 @@ class SignCheckParams:
         min_rms_rate_rps: both sensors of an edge must turn about the vertical at least
             this much (RMS of the low-passed rate), rad/s; a trial without turning
             decides nothing.
+        min_abs_axial: an edge's axial-acceleration correlation
+            (:mod:`lowerlimb.calibration.axial_sign`) decides when at least this far from
+            zero (unmodified ankles: ≥ +0.17 on artefact walks; a negated foot: down to −0.86).
     """
 
     lowpass_hz: float = 2.0
     min_abs_correlation: float = 0.6
     min_rms_rate_rps: float = 0.05
+    min_abs_axial: float = 0.35
 
 
 @dataclass(frozen=True)
@@ -70,7 +74,9 @@ class SignCheck:
         edges: ``(sensor, sensor)`` neighbour pairs, proximal first.
         correlation: (E,) correlation of each pair's low-passed vertical rates, NaN when
             a sensor barely turns about the vertical.
-        decides: (E,) whether each edge's correlation is strong enough to decide.
+        axial: (E,) correlation of each pair's accelerations along their joint's axis
+            (NaN: not measured, or the gyros left the axes' direction open).
+        decides: (E,) whether each edge decides (by either correlation; a conflict does not).
         inverted: sensors whose sign is inverted (the fewest that explain the deciding
             edges); empty when every deciding edge is positive.
         ambiguous: the inverted set is one of two equally small ones (the sensors named
@@ -79,6 +85,7 @@ class SignCheck:
 
     edges: tuple[tuple[str, str], ...]
     correlation: FloatArray
+    axial: FloatArray
     decides: tuple[bool, ...]
     inverted: tuple[str, ...]
     ambiguous: bool
@@ -90,19 +97,26 @@ class SignCheck:
                 f"{a}-{b}": None if not np.isfinite(r) else float(r)
                 for (a, b), r in zip(self.edges, self.correlation, strict=True)
             },
+            "axial_correlation": {
+                f"{a}-{b}": None if not np.isfinite(r) else float(r)
+                for (a, b), r in zip(self.edges, self.axial, strict=True)
+            },
             "inverted": list(self.inverted),
         }
 
 
 class InvertedSignError(InputError):
-    """A sensor turns about the vertical against its neighbours; carries the sensors and correlations."""
+    """A sensor turns against its neighbours (about the vertical, or along a joint axis)."""
 
     def __init__(self, check: SignCheck) -> None:
         self.check = check
         self.sensors = check.inverted
         neg = [
-            f"{a}–{b} {r:+.2f}"
-            for (a, b), r, d in zip(check.edges, check.correlation, check.decides, strict=True)
+            f"{a}–{b} {what} {r:+.2f}"
+            for (a, b), rv, ra, d in zip(
+                check.edges, check.correlation, check.axial, check.decides, strict=True
+            )
+            for what, r in (("about the vertical", rv), ("along the joint axis", ra))
             if d and r < 0
         ]
         if check.ambiguous:
@@ -116,8 +130,8 @@ class InvertedSignError(InputError):
                 "their accelerometer or gyro signs are inverted",
             )
         super().__init__(
-            f"{what} about the vertical against the neighbouring segments (correlation of the vertical "
-            f"rates {', '.join(neg)}): {whose}; negate the acc_* columns (a device that reads -9.81 "
+            f"{what} against the neighbouring segments (correlations {', '.join(neg)}): {whose}; "
+            f"negate the acc_* columns (a device that reads -9.81 "
             f"along up at rest) or the gyr_* columns, or pass --no-sign-check if the motion really "
             f"turns these segments against each other"
         )
@@ -198,6 +212,7 @@ def chain_sign_check(
     edges: Sequence[tuple[str, str]],
     rate_hz: float,
     params: SignCheckParams | None = None,
+    axial: Mapping[tuple[str, str], float] | None = None,
 ) -> SignCheck:
     """Correlate neighbours' vertical rates and name the sensors whose sign is inverted.
 
@@ -207,6 +222,9 @@ def chain_sign_check(
         edges: neighbouring sensor pairs (a chain or a tree).
         rate_hz: sampling rate, Hz.
         params: thresholds (defaults when ``None``).
+        axial: ``{edge: correlation}`` of the pairs' accelerations along their joint's axis
+            (:func:`lowerlimb.calibration.axial_sign.axial_sign_correlation`), a second
+            witness that needs no turning; an edge whose two witnesses disagree decides nothing.
 
     Returns:
         The verdict (nothing inverted when no edge decides).
@@ -215,10 +233,20 @@ def chain_sign_check(
     sos = butter(2, min(p.lowpass_hz, 0.45 * rate_hz), fs=rate_hz, output="sos")
     names = list(dict.fromkeys(s for e in edges for s in e))
     n = min(len(quat_wxyz[s]) for s in names)
+    ra = np.asarray([(axial or {}).get((a, b), np.nan) for a, b in edges], dtype=np.float64)
     if n <= 27:  # too short to filter (sosfiltfilt's padding)
-        return SignCheck(tuple(edges), np.full(len(edges), np.nan), (False,) * len(edges), (), False)
-    v = {s: sosfiltfilt(sos, vertical_rate(quat_wxyz[s][:n], gyr[s][:n])) for s in names}
-    r = np.array([_edge_correlation(v[a], v[b], p) for a, b in edges])
-    sign = [0 if not abs(x) >= p.min_abs_correlation else int(np.sign(x)) for x in r]
+        r = np.full(len(edges), np.nan, dtype=np.float64)
+    else:
+        v = {s: sosfiltfilt(sos, vertical_rate(quat_wxyz[s][:n], gyr[s][:n])) for s in names}
+        r = np.asarray([_edge_correlation(v[a], v[b], p) for a, b in edges], dtype=np.float64)
+    sign = [_edge_sign(x, y, p) for x, y in zip(r, ra, strict=True)]
     inverted, ambiguous = _fewest_inverted(names, edges, sign)
-    return SignCheck(tuple(edges), r, tuple(e != 0 for e in sign), inverted, ambiguous)
+    return SignCheck(tuple(edges), r, ra, tuple(e != 0 for e in sign), inverted, ambiguous)
+
+
+def _edge_sign(vertical: float, axial: float, p: SignCheckParams) -> int:
+    """+1 / −1 when a witness decides and none contradicts it, else 0."""
+    votes = {int(np.sign(vertical)) if abs(vertical) >= p.min_abs_correlation else 0}
+    votes |= {int(np.sign(axial)) if abs(axial) >= p.min_abs_axial else 0}
+    votes.discard(0)
+    return votes.pop() if len(votes) == 1 else 0
