@@ -90,9 +90,10 @@ def test_the_axial_witness_decides_a_walk_that_does_not_turn():
     assert check.to_dict()["axial_correlation"]["shank-foot"] == -0.6
 
 
-def test_witnesses_that_disagree_decide_nothing():
+def test_the_vertical_rates_overrule_the_axial_witness():
+    """The axial witness trusts the gyros; an inverted gyro turns it the wrong way."""
     check = chain_sign_check(*_turning(), CHAIN, RATE, axial={("shank", "foot"): -0.9})
-    assert check.inverted == () and not check.decides[2]
+    assert check.inverted == () and check.decides[2]
 
 
 # ---------------------------------------------------------------- through the pipeline

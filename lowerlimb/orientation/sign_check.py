@@ -76,7 +76,7 @@ class SignCheck:
             a sensor barely turns about the vertical.
         axial: (E,) correlation of each pair's accelerations along their joint's axis
             (NaN: not measured, or the gyros left the axes' direction open).
-        decides: (E,) whether each edge decides (by either correlation; a conflict does not).
+        decides: (E,) whether each edge decides (by its vertical rates, else its axial witness).
         inverted: sensors whose sign is inverted (the fewest that explain the deciding
             edges); empty when every deciding edge is positive.
         ambiguous: the inverted set is one of two equally small ones (the sensors named
@@ -224,7 +224,7 @@ def chain_sign_check(
         params: thresholds (defaults when ``None``).
         axial: ``{edge: correlation}`` of the pairs' accelerations along their joint's axis
             (:func:`lowerlimb.calibration.axial_sign.axial_sign_correlation`), a second
-            witness that needs no turning; an edge whose two witnesses disagree decides nothing.
+            witness that needs no turning, heard on the edges the vertical rates leave open.
 
     Returns:
         The verdict (nothing inverted when no edge decides).
@@ -245,8 +245,14 @@ def chain_sign_check(
 
 
 def _edge_sign(vertical: float, axial: float, p: SignCheckParams) -> int:
-    """+1 / −1 when a witness decides and none contradicts it, else 0."""
-    votes = {int(np.sign(vertical)) if abs(vertical) >= p.min_abs_correlation else 0}
-    votes |= {int(np.sign(axial)) if abs(axial) >= p.min_abs_axial else 0}
-    votes.discard(0)
-    return votes.pop() if len(votes) == 1 else 0
+    """+1 / −1 from the vertical rates when they decide, else from the axial witness, else 0.
+
+    The vertical rates come first: the axial witness trusts the gyros to fix the axes'
+    direction, which an inverted gyro does not (squats and sit-to-stands with a negated
+    shank or foot gyro gave an axial correlation of the wrong sign).
+    """
+    if abs(vertical) >= p.min_abs_correlation:
+        return int(np.sign(vertical))
+    if abs(axial) >= p.min_abs_axial:
+        return int(np.sign(axial))
+    return 0
