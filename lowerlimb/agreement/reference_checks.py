@@ -13,6 +13,7 @@ from numpy.typing import ArrayLike
 
 from ..conventions import FloatArray
 from ..errors import TimeAxisError
+from ..io.time_axis import require_increasing
 from .errors import NoTimeOverlapError, ReferenceTimeUnitError, ReferenceUnitError, TooLittleTimeOverlapError
 from .params import AgreementParams
 
@@ -60,14 +61,8 @@ def check_reference_time(
             f"{whose} is not a number at data row {bad[0] + 1} (the time column must be finite and "
             f"strictly increasing); fill or drop that row"
         )
-    dt = np.diff(t)
-    if np.any(dt <= 0):
-        k = int(np.flatnonzero(dt <= 0)[0])
-        raise TimeAxisError(
-            f"{whose} is not strictly increasing at data row {k + 2} ({t[k]:.6g} s then "
-            f"{t[k + 1]:.6g} s); sort the rows and drop repeated times"
-        )
-    step = float(np.median(dt))
+    require_increasing(t, whose, "sort the rows and drop repeated times")
+    step = float(np.median(np.diff(t)))
     if step > 1.0 / p.min_reference_rate_hz:
         ours = None
         if time_s is not None and np.size(time_s) > 1:

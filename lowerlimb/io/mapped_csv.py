@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from lowerlimb.conventions import FloatArray
-from lowerlimb.errors import InputError, NonFiniteValueError, TimeAxisError, TooShortError, UnitError
+from lowerlimb.errors import InputError, NonFiniteValueError, TooShortError, UnitError
 from lowerlimb.io.trial import MIN_DURATION_S, ImuTrial, unreadable_csv
 
 from .bounds import INPUT_BOUNDS
@@ -42,6 +42,7 @@ from .errors import ColumnNotFoundError, PacketGapError
 from .params import ImportParams
 from .recording import ImportedRecording
 from .text_file import read_text
+from .time_axis import require_increasing
 from .units import QUANTITY_UNITS, TIME_UNITS
 
 
@@ -159,13 +160,8 @@ def resample_uniform(
     bad = np.argwhere(~np.isfinite(data))
     if bad.size:
         raise NonFiniteValueError(names[bad[0][1]], int(bad[0][0]) + 1)
+    require_increasing(time_s, fix="sort the rows and drop duplicates before resampling")
     dt = np.diff(time_s)
-    if np.any(dt <= 0):
-        k = int(np.flatnonzero(dt <= 0)[0])
-        raise TimeAxisError(
-            f"time is not strictly increasing at data row {k + 2} ({time_s[k]:.6g} s then "
-            f"{time_s[k + 1]:.6g} s); sort the rows and drop duplicates before resampling"
-        )
     if dt.size and dt.max() > max_gap_s:
         k = int(np.argmax(dt))
         raise PacketGapError("the recording", float(time_s[k]), float(dt[k]), max_gap_s)

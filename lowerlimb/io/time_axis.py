@@ -8,9 +8,27 @@ from typing import TypeVar
 import numpy as np
 
 from ..conventions import FloatArray
-from ..errors import InputError
+from ..errors import InputError, TimeAxisError
 
-__all__ = ["TimeAxis"]
+__all__ = ["TimeAxis", "require_increasing"]
+
+
+def require_increasing(
+    time_s: FloatArray, whose: str = "time", fix: str = "sort the rows and drop duplicates"
+) -> None:
+    """Refuse a (N,) time column, s, that is not strictly increasing, naming the first data row.
+
+    Raises:
+        TimeAxisError: ``"<whose> is not strictly increasing at data row k (a s then b s); <fix>"``.
+    """
+    dt = np.diff(time_s)
+    if np.any(dt <= 0):
+        k = int(np.flatnonzero(dt <= 0)[0])
+        raise TimeAxisError(
+            f"{whose} is not strictly increasing at data row {k + 2} ({time_s[k]:.6g} s then "
+            f"{time_s[k + 1]:.6g} s); {fix}"
+        )
+
 
 _T = TypeVar("_T", bound="TimeAxis")
 

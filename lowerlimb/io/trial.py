@@ -31,7 +31,7 @@ from ..errors import (
 from ..stillness import StillPeriod, detect_still_period
 from .bounds import INPUT_BOUNDS
 from .text_file import BINARY_MAGIC
-from .time_axis import TimeAxis
+from .time_axis import TimeAxis, require_increasing
 
 #: Lowest sampling rate accepted, Hz: below it the time column is taken to be in ms.
 MIN_RATE_HZ = 5.0
@@ -225,13 +225,8 @@ class ImuTrial(TimeAxis):
                 ):
                     r, c = huge[0]
                     raise SampleGlitchError(f"{sensor}_{name}_{'xyz'[c]}", int(r) + 1, float(x[r, c]))
+        require_increasing(t)
         dt = np.diff(t)
-        if np.any(dt <= 0):
-            k = int(np.flatnonzero(dt <= 0)[0])
-            raise TimeAxisError(
-                f"time is not strictly increasing at data row {k + 2} "
-                f"({t[k]:.6g} s then {t[k + 1]:.6g} s); sort the rows and drop duplicates"
-            )
         med = float(np.median(dt))
         if med > 1.0 / MIN_RATE_HZ:
             raise UnitError(
