@@ -86,7 +86,9 @@ def test_the_axial_witness_decides_a_walk_that_does_not_turn():
     axial = {("thigh", "shank"): 0.95, ("shank", "foot"): -0.6}
     check = chain_sign_check(*_turning(still=still), CHAIN, RATE, axial=axial)
     assert check.inverted == ("foot",) and not check.ambiguous
-    assert "shank–foot along the joint axis -0.60" in str(InvertedSignError(check))
+    msg = str(InvertedSignError(check))
+    assert "shank–foot along the joint axis -0.60" in msg and "about the vertical" not in msg
+    assert check.decided_by == ("", "axial", "axial")
     assert check.to_dict()["axial_correlation"]["shank-foot"] == -0.6
 
 

@@ -76,7 +76,8 @@ class SignCheck:
             a sensor barely turns about the vertical.
         axial: (E,) correlation of each pair's accelerations along their joint's axis
             (NaN: not measured, or the gyros left the axes' direction open).
-        decides: (E,) whether each edge decides (by its vertical rates, else its axial witness).
+        decided_by: (E,) the witness that decides each edge: ``"vertical"`` (its vertical
+            rates), ``"axial"`` (the axial witness, where the rates leave it open) or ``""``.
         inverted: sensors whose sign is inverted (the fewest that explain the deciding
             edges); empty when every deciding edge is positive.
         ambiguous: the inverted set is one of two equally small ones (the sensors named
@@ -86,9 +87,14 @@ class SignCheck:
     edges: tuple[tuple[str, str], ...]
     correlation: FloatArray
     axial: FloatArray
-    decides: tuple[bool, ...]
+    decided_by: tuple[str, ...]
     inverted: tuple[str, ...]
     ambiguous: bool
+
+    @property
+    def decides(self) -> tuple[bool, ...]:
+        """(E,) whether each edge decides."""
+        return tuple(bool(w) for w in self.decided_by)
 
     def to_dict(self) -> dict[str, object]:
         """The verdict as JSON-ready values (correlations ``None`` when undecided)."""
@@ -111,13 +117,12 @@ class InvertedSignError(InputError):
     def __init__(self, check: SignCheck) -> None:
         self.check = check
         self.sensors = check.inverted
+        rows = zip(check.edges, check.correlation, check.axial, check.decided_by, strict=True)
+        named = {"vertical": "about the vertical", "axial": "along the joint axis"}
         neg = [
-            f"{a}–{b} {what} {r:+.2f}"
-            for (a, b), rv, ra, d in zip(
-                check.edges, check.correlation, check.axial, check.decides, strict=True
-            )
-            for what, r in (("about the vertical", rv), ("along the joint axis", ra))
-            if d and r < 0
+            f"{a}–{b} {named[w]} {rv if w == 'vertical' else ra:+.2f}"
+            for (a, b), rv, ra, w in rows
+            if w and (rv if w == "vertical" else ra) < 0
         ]
         if check.ambiguous:
             what = f"the {' or the '.join(check.inverted)} turns"
@@ -239,20 +244,21 @@ def chain_sign_check(
     else:
         v = {s: sosfiltfilt(sos, vertical_rate(quat_wxyz[s][:n], gyr[s][:n])) for s in names}
         r = np.asarray([_edge_correlation(v[a], v[b], p) for a, b in edges], dtype=np.float64)
-    sign = [_edge_sign(x, y, p) for x, y in zip(r, ra, strict=True)]
+    votes = [_edge_vote(x, y, p) for x, y in zip(r, ra, strict=True)]
+    sign = [v for v, _ in votes]
     inverted, ambiguous = _fewest_inverted(names, edges, sign)
-    return SignCheck(tuple(edges), r, ra, tuple(e != 0 for e in sign), inverted, ambiguous)
+    return SignCheck(tuple(edges), r, ra, tuple(w for _, w in votes), inverted, ambiguous)
 
 
-def _edge_sign(vertical: float, axial: float, p: SignCheckParams) -> int:
-    """+1 / −1 from the vertical rates when they decide, else from the axial witness, else 0.
+def _edge_vote(vertical: float, axial: float, p: SignCheckParams) -> tuple[int, str]:
+    """(+1 / −1 / 0, the deciding witness): the vertical rates when they decide, else the axial one.
 
     The vertical rates come first: the axial witness trusts the gyros to fix the axes'
     direction, which an inverted gyro does not (squats and sit-to-stands with a negated
     shank or foot gyro gave an axial correlation of the wrong sign).
     """
     if abs(vertical) >= p.min_abs_correlation:
-        return int(np.sign(vertical))
+        return int(np.sign(vertical)), "vertical"
     if abs(axial) >= p.min_abs_axial:
-        return int(np.sign(axial))
-    return 0
+        return int(np.sign(axial)), "axial"
+    return 0, ""
