@@ -116,7 +116,7 @@ def run_study(
     last_write = [time.perf_counter()]
 
     finished: list[str] = []
-    unusable = [False]
+    unusable = False
 
     def finish(outcome: TrialOutcome) -> None:
         finished.append(outcome.name)
@@ -143,13 +143,13 @@ def run_study(
 
                 run_dask(worker or _default_worker(), jobs, scheduler=scheduler, on_done=finish)
         except InputError:
-            unusable[0] = not finished  # the scheduler: nothing ran, nothing is written
-            if unusable[0] and created:
+            unusable = not finished  # the scheduler: nothing ran, nothing is written
+            if unusable and created:
                 shutil.rmtree(root, ignore_errors=True)
             raise
         finally:
             result.outcomes = [outcomes[t.name] for t in trials if t.name in outcomes]
-            if not unusable[0]:
+            if not unusable:
                 result.files = write_study_tables(root, result.rows())
     result.processed = len(jobs)
     result.wall_s = time.perf_counter() - t0
