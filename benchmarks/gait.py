@@ -52,6 +52,7 @@ from lowerlimb.conventions import ANGLE_COLUMNS, SIDES
 from lowerlimb.gait import GaitParams
 from lowerlimb.model.fallback import segment_lengths
 from lowerlimb.simulation import Artefacts, simulate_bilateral
+from lowerlimb.simulation.footsteps import PACE_RANGES
 
 ROOT = Path(__file__).resolve().parents[1]
 MATCH_S = 0.2
@@ -172,16 +173,18 @@ def score_simulation(
     calibration_options: CalibrationOptions | None = None,
     rate_hz: float = 100.0,
     gait_params: GaitParams | None = None,
+    pace: str = "normal",
 ) -> dict[str, Any]:
     """One simulated walk through the two-leg pipeline, scored against its truth.
 
     ``artefacts`` is the simulator's realism profile (``None``: rigid sensors);
     ``uniform_field`` replaces the lab's magnetic field by one uniform field (9-axis fusion);
     ``calibration_options`` and ``gait_params`` are passed to the pipeline (``None``: the
-    defaults); ``rate_hz`` is the simulated sampling rate.
+    defaults); ``rate_hz`` is the simulated sampling rate; ``pace`` the walker's
+    (``normal`` or ``slow``, :data:`lowerlimb.simulation.footsteps.PACE_RANGES`).
     """
     kw: dict[str, Any] = {"lab_field": None} if uniform_field else {}
-    sim = simulate_bilateral(duration_s, seed, artefacts=artefacts, rate_hz=rate_hz, **kw)
+    sim = simulate_bilateral(duration_s, seed, artefacts=artefacts, rate_hz=rate_hz, pace=pace, **kw)
     t0 = time.perf_counter()
     refused = one_pelvis_refused = False
     with warnings.catch_warnings(record=True) as caught:
@@ -274,13 +277,25 @@ def _fmt(x: float, unit: str = "") -> str:
     return "–" if x is None or not np.isfinite(x) else f"{x:.1f}{unit}"
 
 
+def _pace_text(sim: dict[str, Any]) -> str:
+    """``"slow pace (…), "`` for a slow walker, else ``""``."""
+    if sim.get("pace", "normal") == "normal":
+        return ""
+    r = PACE_RANGES[sim["pace"]]
+    return (
+        f'**{sim["pace"]} pace** (`pace="{sim["pace"]}"`: {r.speed_m_s[0]:g}–{r.speed_m_s[1]:g} m/s, '
+        f"stride {r.stride_time_s[0]:g}–{r.stride_time_s[1]:g} s, stance "
+        f"{100 * r.stance_fraction[0]:.0f}–{100 * r.stance_fraction[1]:.0f} %), "
+    )
+
+
 def markdown(res: dict[str, Any]) -> str:
     seeds = res["simulated"]["seeds"]
     L = [
         "# Both legs: issue 11's goals on simulated seven-IMU walks and on the real walk",
         "",
         f"Simulated: `simulate_bilateral` seeds {', '.join(map(str, seeds))}, "
-        f"{res['simulated']['duration_s']:g} s each, realistic noise, "
+        f"{res['simulated']['duration_s']:g} s each, {_pace_text(res['simulated'])}realistic noise, "
         + (
             "in one uniform magnetic field (`lab_field=None`: the magnetometer is fused, 9-axis; "
             "no real lab was this kind, `docs/limits.md`), "
@@ -429,7 +444,8 @@ def markdown_artefacts(res: dict[str, Any]) -> str:
         "",
         "`simulate_bilateral(..., artefacts=Artefacts.real_walk())` seeds "
         f"{', '.join(map(str, art['seeds']))}, "
-        f"{art['duration_s']:g} s each, realistic noise: heel-strike impacts at each foot's contacts, "
+        f"{art['duration_s']:g} s each, {_pace_text(art)}realistic noise: heel-strike impacts at "
+        "each foot's contacts, "
         "wobbling soft tissue, skin motion, clock offset and jitter, scale and misalignment of all "
         "seven sensors. The same seeds rigid (same placements, walk and noise) alongside; "
         f"scored after {SKIP_S:g} s as `gait.md`.",
@@ -502,12 +518,15 @@ def _per_trial_lines(rigid: list[dict[str, Any]], art: list[dict[str, Any]]) -> 
     return L
 
 
-def _simulated(seeds: list[int], duration_s: float, artefacts: Artefacts | None) -> dict[str, Any]:
+def _simulated(
+    seeds: list[int], duration_s: float, artefacts: Artefacts | None, pace: str = "normal"
+) -> dict[str, Any]:
     """Score every seed (with the realism profile ``artefacts``, if any) and pool the results."""
-    trials = [score_simulation(seed, duration_s, artefacts) for seed in seeds]
+    trials = [score_simulation(seed, duration_s, artefacts, pace=pace) for seed in seeds]
     return {
         "seeds": seeds,
         "duration_s": duration_s,
+        "pace": pace,
         "pooled": summarise_simulation(trials),
         "trials": trials,
     }
@@ -518,12 +537,13 @@ def _main_artefacts(args: argparse.Namespace) -> None:
     res: dict[str, Any] = {
         "goals": GOALS,
         "profile": Artefacts.real_walk().to_dict(),
-        "simulated": _simulated(args.seeds, args.duration, Artefacts.real_walk()),
-        "rigid": _simulated(args.seeds, args.duration, None),
+        "simulated": _simulated(args.seeds, args.duration, Artefacts.real_walk(), args.pace),
+        "rigid": _simulated(args.seeds, args.duration, None, args.pace),
     }
+    name = "gait_artefacts" if args.pace == "normal" else f"gait_{args.pace}_artefacts"
     args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "gait_artefacts.json").write_text(json.dumps(res, indent=1, default=float) + "\n")
-    (args.out / "gait_artefacts.md").write_text(markdown_artefacts(res))
+    (args.out / f"{name}.json").write_text(json.dumps(res, indent=1, default=float) + "\n")
+    (args.out / f"{name}.md").write_text(markdown_artefacts(res))
     print(markdown_artefacts(res))
 
 
@@ -551,24 +571,37 @@ def main() -> None:
         help="simulate one uniform magnetic field instead of the lab's (9-axis fusion; writes "
         "gait_uniform_field.{md,json}; the real walk is not re-run)",
     )
+    ap.add_argument(
+        "--pace",
+        choices=("normal", "slow"),
+        default="normal",
+        help="the simulated walker's pace; slow writes gait_slow.{md,json} (gait_slow_artefacts "
+        "with --artefacts real; the real walk is not re-run)",
+    )
     args = ap.parse_args()
     if args.artefacts == "real":
         _main_artefacts(args)
         return
-    trials = [score_simulation(seed, args.duration, uniform_field=args.uniform_field) for seed in args.seeds]
+    trials = [
+        score_simulation(seed, args.duration, uniform_field=args.uniform_field, pace=args.pace)
+        for seed in args.seeds
+    ]
     res: dict[str, Any] = {
         "goals": GOALS,
         "uniform_field": args.uniform_field,
         "simulated": {
             "seeds": args.seeds,
             "duration_s": args.duration,
+            "pace": args.pace,
             "pooled": summarise_simulation(trials),
             "trials": trials,
         },
     }
-    if (args.data / "gait").is_dir() and not args.uniform_field:
+    if (args.data / "gait").is_dir() and not args.uniform_field and args.pace == "normal":
         res["real"] = real(args.data)
     name = "gait_uniform_field" if args.uniform_field else "gait"
+    if args.pace != "normal":
+        name = f"gait_{args.pace}"
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / f"{name}.json").write_text(json.dumps(res, indent=1, default=float) + "\n")
     (args.out / f"{name}.md").write_text(markdown(res))

@@ -17,11 +17,16 @@ from lowerlimb.conventions import GRAVITY_ENU, SIDES
 from lowerlimb.errors import InputError
 from lowerlimb.simulation import BilateralSimulation, ImuNoise, simulate_bilateral
 from lowerlimb.simulation.bilateral_walk import _foot_points
+from lowerlimb.simulation.footsteps import PACE_RANGES, PACES
 
 
 @lru_cache(maxsize=2)
-def _walk(seed: int = 4) -> BilateralSimulation:
-    return simulate_bilateral(16.0, seed, noise=ImuNoise.none())
+def _walk(seed: int = 4, pace: str = "normal") -> BilateralSimulation:
+    return simulate_bilateral(16.0, seed, noise=ImuNoise.none(), pace=pace)
+
+
+#: The physical promises hold at both paces the simulator draws.
+both_paces = pytest.mark.parametrize("pace", PACES)
 
 
 def _mask(t: np.ndarray, periods: np.ndarray, trim: float) -> np.ndarray:
@@ -31,8 +36,9 @@ def _mask(t: np.ndarray, periods: np.ndarray, trim: float) -> np.ndarray:
     return m
 
 
-def test_legs_move_in_opposite_phase_with_double_support():
-    sim = _walk()
+@both_paces
+def test_legs_move_in_opposite_phase_with_double_support(pace):
+    sim = _walk(pace=pace)
     left, right = (sim.feet[s].events for s in SIDES)
     T = sim.draw.stride_time_s
     # right contacts fall half a stride after the left ones
@@ -45,8 +51,9 @@ def test_legs_move_in_opposite_phase_with_double_support():
         assert to_other - ic == pytest.approx((sim.draw.stance_fraction - 0.5) * T, abs=1e-9)
 
 
-def test_a_flat_foot_is_still_and_its_rockers_pivot_on_fixed_points():
-    sim = _walk()
+@both_paces
+def test_a_flat_foot_is_still_and_its_rockers_pivot_on_fixed_points(pace):
+    sim = _walk(pace=pace)
     t = sim.clean.time_s
     for side in SIDES:
         ev = sim.feet[side].events
@@ -64,8 +71,9 @@ def test_a_flat_foot_is_still_and_its_rockers_pivot_on_fixed_points():
             assert np.ptp(p, axis=0).max() < 1e-9
 
 
-def test_joint_angles_reproduce_the_planned_foot_and_the_knee_is_a_hinge():
-    sim = _walk()
+@both_paces
+def test_joint_angles_reproduce_the_planned_foot_and_the_knee_is_a_hinge(pace):
+    sim = _walk(pace=pace)
     for side in SIDES:
         np.testing.assert_allclose(sim.ankle_m[side], sim.feet[side].ankle_m, atol=1e-7)
     knee = sim.angles_rad[:, [3, 12]]
@@ -89,8 +97,9 @@ def test_the_walk_starts_in_the_reference_posture_with_one_pelvis_sensor():
     }
 
 
-def test_gait_truth_agrees_with_the_walk_drawn():
-    sim = _walk()
+@both_paces
+def test_gait_truth_agrees_with_the_walk_drawn(pace):
+    sim = _walk(pace=pace)
     d = sim.draw
     steady = [s for s in sim.gait.strides if s.start_s > 5.0]
     assert len(steady) >= 8
@@ -107,8 +116,9 @@ def test_gait_truth_agrees_with_the_walk_drawn():
     assert sim.gait.cadence_steps_per_min == pytest.approx(120.0 / d.stride_time_s, rel=0.02)
 
 
-def test_signals_look_like_walking():
-    sim = _walk()
+@both_paces
+def test_signals_look_like_walking(pace):
+    sim = _walk(pace=pace)
     c = sim.clean
     body = slice(0, -30)  # the spline's last samples are extrapolated
     for name in c.acc:
@@ -159,3 +169,39 @@ def test_the_command_line_simulates_a_change_of_pace_for_two_legs_only(tmp_path,
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--pace-changes is a seven-IMU walk option" in err
     assert not (tmp_path / "one.csv").exists()
+
+
+def test_a_slow_walker_draws_the_slow_ranges_and_keeps_the_seeds_other_choices():
+    normal, slow = _walk(), _walk(pace="slow")
+    r = PACE_RANGES["slow"]
+    d = slow.draw
+    for field in ("stride_time_s", "speed_m_s", "stance_fraction", "heel_off_fraction", "step_width_m"):
+        lo, hi = getattr(r, field)
+        assert lo <= getattr(d, field) <= hi, field
+    assert r.ic_pitch_deg[0] <= np.rad2deg(d.ic_pitch_rad) <= r.ic_pitch_deg[1]
+    assert r.to_pitch_deg[0] <= np.rad2deg(d.to_pitch_rad) <= r.to_pitch_deg[1]
+    # slower than any normal walk: longer strides in time, lower speed, longer double support
+    assert d.stride_time_s > PACE_RANGES["normal"].stride_time_s[1]
+    assert d.speed_m_s < PACE_RANGES["normal"].speed_m_s[0]
+    # the pace-independent choices (heading, toe-out, sway, ...) are the seed's
+    for field in ("heading0_rad", "toe_out_rad", "sway_m", "hip_rotation_deg", "min_toe_clearance_m"):
+        assert getattr(d, field) == getattr(normal.draw, field), field
+    with pytest.raises(InputError, match="pace must be one of normal, slow"):
+        simulate_bilateral(8.0, 0, pace="jog")
+
+
+def test_the_command_line_simulates_a_slow_walker_for_two_legs_only(tmp_path, capsys):
+    import json
+
+    from lowerlimb.cli import main
+
+    out, truth = tmp_path / "t.csv", tmp_path / "truth.json"
+    argv = ["simulate", "--side", "both", "--duration", "8", "--seed", "3", "--out", str(out)]
+    assert main([*argv, "--truth", str(truth), "--pace", "slow"]) == 0
+    lo, hi = PACE_RANGES["slow"].speed_m_s
+    assert lo <= json.loads(truth.read_text())["walk"]["speed_m_s"] <= hi
+    capsys.readouterr()
+    one = ["simulate", "--duration", "8", "--out", str(tmp_path / "one.csv"), "--pace", "slow"]
+    assert main(one) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--pace slow is a seven-IMU walk option" in err

@@ -74,6 +74,13 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "changes step width (±20-40 %%) over 1.5-3 minutes, at constant cadence",
     )
     p.add_argument(
+        "--pace",
+        choices=("normal", "slow"),
+        default="normal",
+        help="with --side both: normal (1.0-1.3 m/s) or slow (0.55-0.85 m/s, longer stance: "
+        "older adults, many clinical studies) (default: normal)",
+    )
+    p.add_argument(
         "--force", action="store_true", help="replace existing files (default: refuse to overwrite)"
     )
 
@@ -121,8 +128,9 @@ def _check_two_leg_options(args: argparse.Namespace) -> None:
             ``--pace-changes`` without ``--side both``.
     """
     if args.side != "both":
-        if args.pace_changes:
-            raise InputError("--pace-changes is a seven-IMU walk option; add --side both or drop it")
+        for flag, used in (("--pace-changes", args.pace_changes), ("--pace slow", args.pace != "normal")):
+            if used:
+                raise InputError(f"{flag} is a seven-IMU walk option; add --side both or drop it")
         return
     if args.motion != "walk":
         raise InputError(
@@ -155,6 +163,7 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
         artefacts=Artefacts.real_walk() if args.artefacts == "real" else None,
         lab_field=None if args.uniform_field else LAB_FIELD,
         pace_changes=args.pace_changes,
+        pace=args.pace,
     )
     t = sim.trial.time_s
     writers: dict[Path, Callable[[Path], None]] = {targets["--out"]: sim.trial.to_csv}

@@ -43,6 +43,7 @@ from .artefacts import Artefacts
 from .bilateral_artefacts import BilateralArtefactTruth, bilateral_artefact_truth, bilateral_tissue_motion
 from .footsteps import (
     MID_STANCE_FRACTION,
+    PACES,
     R_ENU_SEGMENT0,
     FootPlan,
     WalkDraw,
@@ -404,6 +405,7 @@ def simulate_bilateral(
     artefacts: Artefacts | None = None,
     lab_field: LabField | None = LAB_FIELD,
     pace_changes: bool = False,
+    pace: str = "normal",
 ) -> BilateralSimulation:
     """Simulate a seven-IMU walk (pelvis, both thighs, shanks and feet) with known truth.
 
@@ -427,24 +429,30 @@ def simulate_bilateral(
         pace_changes: The walker speeds up and slows down by 15–25 % over 1.5–3 minutes at
             constant cadence (step length follows), and the step width changes by 20–40 %
             (their own random stream: the rest of the walk is the steady one's).
+        pace: ``"normal"`` (a healthy adult's self-selected pace, 1.0–1.3 m/s) or ``"slow"``
+            (0.55–0.85 m/s, longer stance; older adults, clinical studies, the real walk of
+            ``gait/``); :data:`~lowerlimb.simulation.footsteps.PACE_RANGES`. A seed's other
+            draws are the same at both paces.
 
     Returns:
         A :class:`BilateralSimulation`.
 
     Raises:
-        InputError: too short a trial or a non-positive rate.
+        InputError: too short a trial, a non-positive rate or an unknown pace.
     """
     t_start = time.perf_counter()
     if rate_hz <= 0 or duration_s < still_s + 4.0:
         raise InputError(
             f"a two-leg walk needs at least {still_s + 4.0:g} s and a positive rate; e.g. --duration 60"
         )
+    if pace not in PACES:
+        raise InputError(f"pace must be one of {', '.join(PACES)}, not {pace!r}")
     noise = ImuNoise() if noise is None else noise
     rng = np.random.default_rng(seed)
     art = artefacts if artefacts is not None and artefacts.active else None
     art_rng = np.random.default_rng([seed, 9] if art is None or art.seed is None else art.seed)
     legs = _legs(height_m, mass_kg, rng)
-    d = draw_walk(rng)
+    d = draw_walk(rng, pace)
     if pace_changes:
         d = _pace_changes(d, np.random.default_rng([seed, 11]))
     t = np.arange(int(round(duration_s * rate_hz))) / rate_hz

@@ -57,6 +57,9 @@ from .toe_rocker import PreSwingParams, push_off_shape, toe_roll_shape
 __all__ = [
     "FootPlan",
     "StanceEvents",
+    "PACES",
+    "PACE_RANGES",
+    "PaceRanges",
     "WalkDraw",
     "draw_walk",
     "first_contacts",
@@ -140,31 +143,104 @@ class WalkDraw:
     width_change: float = 0.0
 
 
-def draw_walk(rng: np.random.Generator) -> WalkDraw:
-    """Draw a healthy adult walk (ranges of Perry & Burnfield 2010 and Winter 2009)."""
-    u = rng.uniform
+#: Walking paces the simulator draws from (:func:`draw_walk`).
+PACES = ("normal", "slow")
+
+
+@dataclass(frozen=True)
+class PaceRanges:
+    """The ranges of the pace-dependent :class:`WalkDraw` fields (uniform draws).
+
+    Attributes:
+        stride_time_s: Stride time, s.
+        speed_m_s: Walking speed, m/s.
+        stance_fraction: Stance share of the stride.
+        heel_off_fraction: Heel-off after IC, fraction of the stride.
+        ic_pitch_deg: Foot pitch at IC, toes up, deg.
+        to_pitch_deg: Foot pitch at TO, toes down, deg.
+        step_width_m: Step width, m.
+        pelvis_deg: Pelvis tilt, obliquity and rotation amplitude ranges, deg.
+    """
+
+    stride_time_s: tuple[float, float]
+    speed_m_s: tuple[float, float]
+    stance_fraction: tuple[float, float]
+    heel_off_fraction: tuple[float, float]
+    ic_pitch_deg: tuple[float, float]
+    to_pitch_deg: tuple[float, float]
+    step_width_m: tuple[float, float]
+    pelvis_deg: tuple[tuple[float, float], tuple[float, float], tuple[float, float]]
+
+
+#: ``normal``: a healthy adult's self-selected pace (Perry & Burnfield 2010; Winter 2009).
+#: ``slow``: the pace of older adults and of many clinical gait studies, 0.55-0.85 m/s with
+#: a stride of 1.3-1.55 s (77-92 steps/min; the real walk of ``gait/``: about 0.8 m/s and
+#: 1.43 s): stance and double support lengthen, the heel rises later, the foot pitches
+#: less at IC and TO, the step widens and the pelvis moves less (Perry & Burnfield 2010,
+#: ch. 25; Murray et al. 1984; Kirtley 2006, ch. 5).
+PACE_RANGES: dict[str, PaceRanges] = {
+    "normal": PaceRanges(
+        stride_time_s=(1.0, 1.15),
+        speed_m_s=(1.0, 1.3),
+        stance_fraction=(0.58, 0.62),
+        heel_off_fraction=(0.30, 0.38),
+        ic_pitch_deg=(14.0, 22.0),
+        to_pitch_deg=(55.0, 65.0),
+        step_width_m=(0.08, 0.14),
+        pelvis_deg=((2.0, 4.0), (3.0, 5.0), (4.0, 7.0)),
+    ),
+    "slow": PaceRanges(
+        stride_time_s=(1.3, 1.55),
+        speed_m_s=(0.55, 0.85),
+        stance_fraction=(0.63, 0.67),
+        heel_off_fraction=(0.38, 0.45),
+        ic_pitch_deg=(8.0, 15.0),
+        to_pitch_deg=(40.0, 55.0),
+        step_width_m=(0.10, 0.18),
+        pelvis_deg=((1.4, 2.8), (2.1, 3.5), (2.8, 4.9)),
+    ),
+}
+
+
+def draw_walk(rng: np.random.Generator, pace: str = "normal") -> WalkDraw:
+    """Draw an adult walk at ``pace`` (:data:`PACE_RANGES`; Perry & Burnfield 2010, Winter 2009).
+
+    The draws come in one order whatever the pace, so a seed's other choices (heading,
+    toe-out, sway, …) are the same at both paces.
+
+    Raises:
+        ValueError: ``pace`` not in :data:`PACES`.
+    """
+    if pace not in PACE_RANGES:
+        raise ValueError(f"pace must be one of {', '.join(PACES)}, not {pace!r}")
+    r = PACE_RANGES[pace]
+
+    def u(lo_hi: tuple[float, float]) -> float:
+        return float(rng.uniform(*lo_hi))
+
+    uniform = rng.uniform
     return WalkDraw(
-        stride_time_s=u(1.0, 1.15),
-        speed_m_s=u(1.0, 1.3),
-        stance_fraction=u(0.58, 0.62),
-        foot_flat_fraction=u(0.07, 0.10),
-        heel_off_fraction=u(0.30, 0.38),
-        ic_pitch_rad=np.deg2rad(u(14.0, 22.0)),
-        to_pitch_rad=np.deg2rad(u(55.0, 65.0)),
-        step_width_m=u(0.08, 0.14),
-        toe_out_rad=(np.deg2rad(u(2.0, 10.0)), np.deg2rad(u(2.0, 10.0))),
+        stride_time_s=u(r.stride_time_s),
+        speed_m_s=u(r.speed_m_s),
+        stance_fraction=u(r.stance_fraction),
+        foot_flat_fraction=uniform(0.07, 0.10),
+        heel_off_fraction=u(r.heel_off_fraction),
+        ic_pitch_rad=np.deg2rad(u(r.ic_pitch_deg)),
+        to_pitch_rad=np.deg2rad(u(r.to_pitch_deg)),
+        step_width_m=u(r.step_width_m),
+        toe_out_rad=(np.deg2rad(uniform(2.0, 10.0)), np.deg2rad(uniform(2.0, 10.0))),
         # minimum toe clearance 1.29 ± 0.45 cm (Winter 1992, healthy young adults)
-        min_toe_clearance_m=u(0.008, 0.02),
-        pelvis_drop_m=u(0.003, 0.008),
-        heading0_rad=u(-np.pi, np.pi),
-        turn_amplitude_rad=u(0.3, 0.8),
-        turn_hz=u(0.03, 0.06),
-        sway_m=u(0.015, 0.03),
-        pelvis_deg=(u(2.0, 4.0), u(3.0, 5.0), u(4.0, 7.0)),
-        hip_rotation_deg=u(2.0, 5.0),
+        min_toe_clearance_m=uniform(0.008, 0.02),
+        pelvis_drop_m=uniform(0.003, 0.008),
+        heading0_rad=uniform(-np.pi, np.pi),
+        turn_amplitude_rad=uniform(0.3, 0.8),
+        turn_hz=uniform(0.03, 0.06),
+        sway_m=uniform(0.015, 0.03),
+        pelvis_deg=(u(r.pelvis_deg[0]), u(r.pelvis_deg[1]), u(r.pelvis_deg[2])),
+        hip_rotation_deg=uniform(2.0, 5.0),
         # the foot's forward velocity peaks at minimum toe clearance (Winter 1992; Perry &
         # Burnfield 2010, ch. 8: mid-swing)
-        swing_peak_fraction=u(0.5, 0.6),
+        swing_peak_fraction=uniform(0.5, 0.6),
         **_draw_release(rng.spawn(1)[0]),
     )
 
