@@ -131,3 +131,17 @@ def test_a_squat_with_thigh_and_shank_exchanged_names_them():
     trial = cached_simulation("squat", 40.0, 2, artefacts=Artefacts.real_walk()).trial
     with pytest.raises(SensorOrderError, match="the thigh and shank columns look swapped"):
         calibrate_leg(_swap(trial, "thigh", "shank"))
+
+
+def test_the_two_pairings_are_compared_through_one_filter():
+    """A slow walk with the real-walk artefacts: the thigh–foot pair, which shares no joint,
+    got a 2 Hz rigid-band cap and fitted 0.71 m/s², against the knee's 2.31 seen unfiltered
+    with the shank's soft tissue, and the trial was refused as shank/foot swapped."""
+    from lowerlimb.simulation import Artefacts, simulate_bilateral
+
+    trial = simulate_bilateral(60.0, 201, pace="slow", artefacts=Artefacts.real_walk()).trial.leg("left")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        calibrate_leg(trial)  # no SensorOrderError
+    with pytest.raises(SensorOrderError, match="the shank and foot columns look swapped"):
+        calibrate_leg(_swap(trial, "shank", "foot"))
