@@ -52,7 +52,7 @@ from lowerlimb.conventions import ANGLE_COLUMNS, SIDES
 from lowerlimb.gait import GaitParams
 from lowerlimb.model.fallback import segment_lengths
 from lowerlimb.simulation import Artefacts, simulate_bilateral
-from lowerlimb.simulation.footsteps import PACE_RANGES
+from lowerlimb.simulation.footsteps import PACE_RANGES, PACES
 
 ROOT = Path(__file__).resolve().parents[1]
 MATCH_S = 0.2
@@ -573,10 +573,10 @@ def main() -> None:
     )
     ap.add_argument(
         "--pace",
-        choices=("normal", "slow"),
+        choices=PACES,
         default="normal",
-        help="the simulated walker's pace; slow writes gait_slow.{md,json} (gait_slow_artefacts "
-        "with --artefacts real; the real walk is not re-run)",
+        help="the simulated walker's pace; slow (shuffle) writes gait_slow.{md,json} "
+        "(gait_slow_artefacts with --artefacts real; the real walk is not re-run)",
     )
     args = ap.parse_args()
     if args.artefacts == "real":

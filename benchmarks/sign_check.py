@@ -4,7 +4,7 @@ One sensor's ``acc_*`` (or ``gyr_*``) columns are negated, every sensor in turn,
 trial goes through the pipeline (``lowerlimb.orientation.sign_check`` is on by default):
 
 - simulated two-leg walks (``simulate_bilateral`` seeds 201–206, 60 s, rigid and with the
-  real-walk artefact profile), 6-axis;
+  real-walk artefact profile), 6-axis, at the normal and at the slow pace;
 - simulated one-leg motions (walk, squat, half-squat, knee-lift, sit-to-stand, mixed;
   seeds 1–2, 40 s, rigid and with artefacts);
 - the real walk of ``gait/`` (Xsens, both legs, 6-axis).
@@ -111,11 +111,11 @@ def _one_leg_rows(trial: Any, tag: str) -> list[dict[str, Any]]:
     return rows
 
 
-def simulated_two_legs(seeds: tuple[int, ...]) -> list[dict[str, Any]]:
+def simulated_two_legs(seeds: tuple[int, ...], pace: str = "normal") -> list[dict[str, Any]]:
     rows: list[dict[str, Any]] = []
     for art in (None, Artefacts.real_walk()):
         for seed in seeds:
-            sim = simulate_bilateral(60.0, seed, artefacts=art)
+            sim = simulate_bilateral(60.0, seed, artefacts=art, pace=pace)
             rows += _two_leg_rows(sim.trial, f"{seed}{' artefacts' if art else ''}")
     return rows
 
@@ -166,6 +166,7 @@ def markdown(res: dict[str, list[dict[str, Any]]]) -> str:
     titles = {
         "real": "Real walk (`gait/`, both legs, 6-axis; one turn between two passes)",
         "two_legs": "Simulated two-leg walks (seeds 201–206, 60 s, straight; rigid and with artefacts)",
+        "two_legs_slow": 'The same walks at the slow pace (`pace="slow"`: 0.55–0.85 m/s)',
         "one_leg": "Simulated one-leg motions (6 motions × seeds 1–2 × rigid / artefacts, 40 s)",
     }
     for key, title in titles.items():
@@ -179,7 +180,12 @@ def main() -> None:
     ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
     ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
     args = ap.parse_args()
-    res = {"real": real(args.data), "two_legs": simulated_two_legs(SEEDS), "one_leg": simulated_one_leg()}
+    res = {
+        "real": real(args.data),
+        "two_legs": simulated_two_legs(SEEDS),
+        "two_legs_slow": simulated_two_legs(SEEDS, pace="slow"),
+        "one_leg": simulated_one_leg(),
+    }
     write_results(args.out, "sign_check", res, markdown(res))
 
 

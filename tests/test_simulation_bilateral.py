@@ -20,7 +20,7 @@ from lowerlimb.simulation.bilateral_walk import _foot_points
 from lowerlimb.simulation.footsteps import PACE_RANGES, PACES
 
 
-@lru_cache(maxsize=2)
+@lru_cache(maxsize=4)
 def _walk(seed: int = 4, pace: str = "normal") -> BilateralSimulation:
     return simulate_bilateral(16.0, seed, noise=ImuNoise.none(), pace=pace)
 
@@ -171,22 +171,23 @@ def test_the_command_line_simulates_a_change_of_pace_for_two_legs_only(tmp_path,
     assert not (tmp_path / "one.csv").exists()
 
 
-def test_a_slow_walker_draws_the_slow_ranges_and_keeps_the_seeds_other_choices():
-    normal, slow = _walk(), _walk(pace="slow")
-    r = PACE_RANGES["slow"]
+@pytest.mark.parametrize("pace", ["slow", "shuffle"])
+def test_a_slow_walker_draws_its_ranges_and_keeps_the_seeds_other_choices(pace):
+    normal, slow = _walk(), _walk(pace=pace)
+    r = PACE_RANGES[pace]
     d = slow.draw
     for field in ("stride_time_s", "speed_m_s", "stance_fraction", "heel_off_fraction", "step_width_m"):
         lo, hi = getattr(r, field)
         assert lo <= getattr(d, field) <= hi, field
     assert r.ic_pitch_deg[0] <= np.rad2deg(d.ic_pitch_rad) <= r.ic_pitch_deg[1]
     assert r.to_pitch_deg[0] <= np.rad2deg(d.to_pitch_rad) <= r.to_pitch_deg[1]
-    # slower than any normal walk: longer strides in time, lower speed, longer double support
-    assert d.stride_time_s > PACE_RANGES["normal"].stride_time_s[1]
+    # slower than any normal walk, with a longer double support
     assert d.speed_m_s < PACE_RANGES["normal"].speed_m_s[0]
+    assert d.stance_fraction > PACE_RANGES["normal"].stance_fraction[1]
     # the pace-independent choices (heading, toe-out, sway, ...) are the seed's
     for field in ("heading0_rad", "toe_out_rad", "sway_m", "hip_rotation_deg", "min_toe_clearance_m"):
         assert getattr(d, field) == getattr(normal.draw, field), field
-    with pytest.raises(InputError, match="pace must be one of normal, slow"):
+    with pytest.raises(InputError, match="pace must be one of normal, slow, shuffle"):
         simulate_bilateral(8.0, 0, pace="jog")
 
 

@@ -75,10 +75,11 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
     )
     p.add_argument(
         "--pace",
-        choices=("normal", "slow"),
+        choices=("normal", "slow", "shuffle"),
         default="normal",
-        help="with --side both: normal (1.0-1.3 m/s) or slow (0.55-0.85 m/s, longer stance: "
-        "older adults, many clinical studies) (default: normal)",
+        help="with --side both: normal (1.0-1.3 m/s), slow (0.55-0.85 m/s, longer stance: "
+        "older adults, many clinical studies) or shuffle (0.4-0.7 m/s, short strides, flat "
+        "foot contact and a weak push-off, as in Parkinson's disease) (default: normal)",
     )
     p.add_argument(
         "--force", action="store_true", help="replace existing files (default: refuse to overwrite)"
@@ -128,7 +129,8 @@ def _check_two_leg_options(args: argparse.Namespace) -> None:
             ``--pace-changes`` without ``--side both``.
     """
     if args.side != "both":
-        for flag, used in (("--pace-changes", args.pace_changes), ("--pace slow", args.pace != "normal")):
+        two_leg_only = (("--pace-changes", args.pace_changes), (f"--pace {args.pace}", args.pace != "normal"))
+        for flag, used in two_leg_only:
             if used:
                 raise InputError(f"{flag} is a seven-IMU walk option; add --side both or drop it")
         return

@@ -429,10 +429,12 @@ def simulate_bilateral(
         pace_changes: The walker speeds up and slows down by 15–25 % over 1.5–3 minutes at
             constant cadence (step length follows), and the step width changes by 20–40 %
             (their own random stream: the rest of the walk is the steady one's).
-        pace: ``"normal"`` (a healthy adult's self-selected pace, 1.0–1.3 m/s) or ``"slow"``
+        pace: ``"normal"`` (a healthy adult's self-selected pace, 1.0–1.3 m/s), ``"slow"``
             (0.55–0.85 m/s, longer stance; older adults, clinical studies, the real walk of
-            ``gait/``); :data:`~lowerlimb.simulation.footsteps.PACE_RANGES`. A seed's other
-            draws are the same at both paces.
+            ``gait/``) or ``"shuffle"`` (0.4–0.7 m/s, short strides, a flat contact and a
+            weak push-off, as in Parkinson's disease);
+            :data:`~lowerlimb.simulation.footsteps.PACE_RANGES`. A seed's other draws are the
+            same at every pace.
 
     Returns:
         A :class:`BilateralSimulation`.

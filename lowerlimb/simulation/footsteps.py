@@ -144,7 +144,7 @@ class WalkDraw:
 
 
 #: Walking paces the simulator draws from (:func:`draw_walk`).
-PACES = ("normal", "slow")
+PACES = ("normal", "slow", "shuffle")
 
 
 @dataclass(frozen=True)
@@ -174,10 +174,20 @@ class PaceRanges:
 
 #: ``normal``: a healthy adult's self-selected pace (Perry & Burnfield 2010; Winter 2009).
 #: ``slow``: the pace of older adults and of many clinical gait studies, 0.55-0.85 m/s with
-#: a stride of 1.3-1.55 s (77-92 steps/min; the real walk of ``gait/``: about 0.8 m/s and
-#: 1.43 s): stance and double support lengthen, the heel rises later, the foot pitches
-#: less at IC and TO, the step widens and the pelvis moves less (Perry & Burnfield 2010,
-#: ch. 25; Murray et al. 1984; Kirtley 2006, ch. 5).
+#: a stride of 1.3-1.55 s (77-92 steps/min): stance and double support lengthen, the step
+#: widens and the pelvis moves less (Perry & Burnfield 2010, ch. 25; Murray et al. 1984;
+#: Kirtley 2006, ch. 5). The foot still pushes off: the real walk of ``gait/`` (0.8 m/s,
+#: 1.43 s strides, Vicon heel and toe markers) has a stance of 63-68 %, the heel 10 mm up
+#: at 24-42 % of the stride, the foot pitched 50-60° down at toe-off and 20-35° up at
+#: initial contact, a foot rate of 6.6-8.8 rad/s before toe-off and the forefoot's loading
+#: peak in the specific force (20-24 m/s²) at toe-off, as at the normal pace. A first
+#: draft with a later heel-off (38-45 %) and less pitch (8-15° at contact, 40-55° at
+#: toe-off) had no such peak (the magnitude fell smoothly through toe-off) and timed every
+#: toe-off 40-50 ms late.
+#: ``shuffle``: a shuffling gait (Parkinson's disease; Morris et al. 1994, Brain 117;
+#: Perry & Burnfield 2010, ch. 26): short strides at a near-normal cadence, 0.4-0.7 m/s,
+#: a flat foot at contact (5-12°), a weak push-off (30-45° at toe-off, late heel-off) and a
+#: long stance. Its forefoot barely loads before toe-off.
 PACE_RANGES: dict[str, PaceRanges] = {
     "normal": PaceRanges(
         stride_time_s=(1.0, 1.15),
@@ -193,11 +203,21 @@ PACE_RANGES: dict[str, PaceRanges] = {
         stride_time_s=(1.3, 1.55),
         speed_m_s=(0.55, 0.85),
         stance_fraction=(0.63, 0.67),
-        heel_off_fraction=(0.38, 0.45),
-        ic_pitch_deg=(8.0, 15.0),
-        to_pitch_deg=(40.0, 55.0),
+        heel_off_fraction=(0.32, 0.40),
+        ic_pitch_deg=(14.0, 22.0),
+        to_pitch_deg=(48.0, 60.0),
         step_width_m=(0.10, 0.18),
         pelvis_deg=((1.4, 2.8), (2.1, 3.5), (2.8, 4.9)),
+    ),
+    "shuffle": PaceRanges(
+        stride_time_s=(1.0, 1.3),
+        speed_m_s=(0.4, 0.7),
+        stance_fraction=(0.63, 0.68),
+        heel_off_fraction=(0.38, 0.45),
+        ic_pitch_deg=(5.0, 12.0),
+        to_pitch_deg=(30.0, 45.0),
+        step_width_m=(0.10, 0.16),
+        pelvis_deg=((1.2, 2.4), (1.8, 3.0), (2.4, 4.2)),
     ),
 }
 
@@ -329,7 +349,8 @@ def _stance_pose(
     t_max = st.toe_off + pre.largest_plantarflexion_fraction * T
     u_to = (st.toe_off - st.heel_off) / (t_max - st.heel_off)
     pitch_max = d.to_pitch_rad / push_off_shape(u_to, standing)
-    roll = (d.stance_fraction - 0.5) * T  # pre-swing: from the other foot's contact to toe-off
+    # pre-swing: from the other foot's contact to toe-off, at most max_toe_roll_s
+    roll = min((d.stance_fraction - 0.5) * T, pre.max_toe_roll_s)
     # the toe segment's tilt at toe-off: the rearfoot's pitch less the MTP dorsiflexion
     toe_tilt = max(d.to_pitch_rad - np.deg2rad(pre.mtp_at_toe_off_deg), 0.0)
 

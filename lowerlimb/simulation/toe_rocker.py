@@ -78,6 +78,13 @@ class PreSwingParams:
             head, does at 11-14 m/s² (Vicon, 10 Hz low-pass), and the foot IMU's specific
             force rises into toe-off (12 → 20 m/s² over the last 100 ms) where with 3 it
             falls. 4 puts 6-14 m/s² there and the rise back in.
+        max_toe_roll_s: The toe rocker lasts the pre-swing (the double support before
+            toe-off), at most this long, s. At a normal pace the double support lasts
+            0.08-0.14 s; a slow walker's lasts 0.17-0.26 s, but the real walk of ``gait/``,
+            slow (0.8 m/s, 1.43 s strides), still rolls off the toe tip fast: its foot
+            IMU's specific force peaks at 20-24 m/s² at toe-off, as at a normal pace. A toe
+            rocker stretched over the whole slow double support left no such peak (the
+            magnitude fell smoothly through toe-off).
     """
 
     mtp_ahead_fraction: float = 0.62
@@ -86,6 +93,7 @@ class PreSwingParams:
     mtp_at_toe_off_deg: float = 30.0
     largest_plantarflexion_fraction: float = 0.05
     toe_roll_power: int = 4
+    max_toe_roll_s: float = 0.14
 
 
 def push_off_shape(u: float, from_standing: bool) -> float:
