@@ -15,12 +15,13 @@ The test is only as good as the gyros' axes. The acceleration along a joint's
 medio-lateral axis is small in a straight walk; where the two frames' axes are not one
 line (an ankle that is not a hinge, a knee under soft-tissue motion) the forward and
 vertical accelerations that the mismatch projects onto it swamp it. On unmodified
-straight simulated walks, normal and slow paces, rigid and with the real-walk artefacts,
-the correlation came out as low as −0.73 (knee, coherence 0.59) and −0.64 (ankle, 0.66),
-and at a slow pace the ankle's was below −0.4 on three rigid walks of six, even at the
-true ankle centre; no knee or ankle whose gyros reached a coherence of 0.85 fell below
-−0.14. The real walk's knees reach 0.84 / 0.83, its ankles 0.89 / 0.91. So a verdict
-needs :attr:`AxialSignParams.min_coherence`.
+straight simulated walks, rigid and with the real-walk artefacts, the correlation came
+out as low as −0.73 (knee, coherence 0.59) and −0.64 (ankle, 0.66); on slow walks with
+a weak push-off the ankle's was below −0.4 on three rigid walks of six, even at the true
+ankle centre, and a shuffling walk's (``pace="shuffle"``, seed 206) −0.70. No knee or
+ankle whose gyros reached a coherence of 0.85 fell below −0.14. The real walk's knees
+reach 0.84 / 0.83, its ankles 0.89 / 0.91. So a verdict needs
+:attr:`AxialSignParams.min_coherence`.
 
 The hip is no help: the pelvis barely turns about the flexion axis, so the gyros leave
 the axes' relative direction open (its correlation came out −0.9 on unmodified walks),

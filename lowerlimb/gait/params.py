@@ -62,6 +62,10 @@ class GaitParams:
         unloading_min_mps2: The unloading counts only when the magnitude falls at least
             this far below that peak (about a third of g; on the real walk of ``gait/``
             it falls 10-17 m/s²), else toe-off comes from the shank, m/s².
+        unloading_max_offset: The unloading counts only when it lies within this fraction
+            of the push-off rate bracket's length from the bracket's middle, which the
+            rate features straddle about evenly (:mod:`lowerlimb.gait.toe_off`); further
+            away it is the swing's first transient, not the forefoot's unloading.
         level_at_stance: Pin the foot's tilt to gravity at every stationary period before
             the strapdown (:func:`~lowerlimb.gait.trajectory.levelled_at_stance`): the still
             foot's accelerometer reads gravity alone, where the filter's tilt lags a gyro bias.
@@ -130,6 +134,7 @@ class GaitParams:
     ic_refine_s: float = 0.04
     unloading_lowpass_hz: float = 50.0
     unloading_min_mps2: float = 3.0
+    unloading_max_offset: float = 0.25
     level_at_stance: bool = True
     min_event_rate_hz: float | None = 100.0
     walking_gyro_rps: float = 1.0

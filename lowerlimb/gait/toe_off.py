@@ -34,6 +34,13 @@ Choices the paper leaves open, stated here:
   least ``unloading_min_mps2`` below the peak before it; otherwise the stride's
   toe-off is the middle of the bracket (:func:`push_off_midpoint`), and only a
   stride with no bracket falls back to the shank;
+* the unloading must lie within :attr:`GaitParams.unloading_max_offset` (a quarter) of
+  the bracket's length from the bracket's middle, else the middle is taken. A foot that
+  barely loads its forefoot before toe-off (a shuffling gait, the simulator's
+  ``pace="shuffle"``, and a first draft of its slow walker) shows no collapse at toe-off,
+  but the swing's first transient 30-40 ms later (a 2-3 g spike, in the real walk's foot
+  IMU too: 25-33 m/s² some 40 ms after the marker toe-off) makes a deep trough of its own:
+  taken for the unloading, three shuffling walks of six timed every toe-off 42-52 ms late;
 * the magnitude is low-passed at :attr:`GaitParams.unloading_lowpass_hz`
   (unchanged at 100 Hz), and the half-way crossing is interpolated linearly
   between the two samples around it;
@@ -104,7 +111,8 @@ def forefoot_unloading(
     Returns:
         One entry per window: the half-way crossing of the specific-force magnitude
         from its last peak down to the forefoot's unloading, or ``None`` when the
-        window shows no push-off or no unloading deeper than ``unloading_min_mps2``.
+        window shows no push-off, no unloading deeper than ``unloading_min_mps2``, or
+        one further than ``unloading_max_offset`` from the rate bracket's middle.
     """
     w = lowpass(np.asarray(foot_omega_rps, dtype=float), params.sagittal_lowpass_hz, rate_hz)
     f = lowpass(
@@ -118,7 +126,10 @@ def forefoot_unloading(
             continue
         k, z = br
         d = _first_trough(f, k, z, params.unloading_min_mps2)
-        out.append(None if d is None else _half_way(f, k + int(np.argmax(f[k:d])), d))
+        t = None if d is None else _half_way(f, k + int(np.argmax(f[k:d])), d)
+        middle = 0.5 * (parabolic_vertex(w, k) + _zero_crossing(w, z))
+        far = t is not None and abs(t - middle) > params.unloading_max_offset * (z - k)
+        out.append(None if far else t)
     return out
 
 
