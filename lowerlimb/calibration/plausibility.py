@@ -13,7 +13,7 @@ Two mistakes give plausible-looking numbers and exit 0 unless they are caught:
   ``swap_ratio`` times the assumed one), the columns are swapped. The two pairings
   are seen through one filter, the lower of their rigid-band caps: a pair that shares
   no joint gets a low cap, and its residual, measured in a narrower band, looked
-  better than the real joint's (``_common_cap``).
+  better than the real joint's (``_lower_cap``).
 
   When only the knee says "shank and foot", the gyros get a say: a knee lift barely
   moves the ankle, so the foot shares the knee almost as well as the shank, and the
@@ -60,6 +60,7 @@ from __future__ import annotations
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from functools import cache
 
 import numpy as np
 from scipy.signal import butter, sosfiltfilt
@@ -175,18 +176,14 @@ def _residual(
     max_samples: int,
     cap_hz: float | None = None,
 ) -> float:
+    """RMS residual of a quiet spherical fit of the pair, filtered at the caller's cap (Hz)."""
     quiet = replace(options, center_std_tol_m=np.inf, min_rms_rate_rps=0.0, noise_correction=False)
-    data = joint_signals(acc, gyr, sig, parent, child, quiet, cap_hz=cap_hz)
+    data = joint_signals(acc, gyr, sig, parent, child, quiet, cap_hz=cap_hz, own_band=False)
     data = data.subsample(subsample_step(data.n_samples, max_samples))
     return fit_spherical(data, method="gn", options=quiet).rms_residual
 
 
-def _common_cap(
-    acc: Mapping[str, FloatArray],
-    sig: PreparedSignals,
-    pairs: tuple[tuple[str, str], tuple[str, str]],
-    options: CalibrationOptions,
-) -> float | None:
+def _lower_cap(caps: tuple[float | None, float | None]) -> float | None:
     """The lower rigid-band cap of two alternative pairs (Hz, ``None``: neither is capped).
 
     A residual's RMS grows with the band it is measured in: two pairs are compared seen
@@ -195,7 +192,6 @@ def _common_cap(
     joint it stands in for, seen unfiltered with its soft tissue (a slow simulated walk
     with the real-walk artefacts: 0.71 against 2.31 m/s² at the knee, refused as swapped).
     """
-    caps = [rigid_band_cap_hz(acc[a], acc[b], sig.rate_hz, options) for a, b in pairs]
     given = [c for c in caps if c is not None]
     return min(given) if given else None
 
@@ -221,9 +217,13 @@ def check_sensor_order(
     """
     p = params or PlausibilityParams()
 
+    @cache
+    def own_cap(pair: tuple[str, str]) -> float | None:
+        return rigid_band_cap_hz(acc[pair[0]], acc[pair[1]], sig.rate_hz, options)
+
     def res(parent: str, child: str, rival: tuple[str, str]) -> float:
         """The pair's residual, seen through the filter of its ``rival`` pair too."""
-        cap = _common_cap(acc, sig, ((parent, child), rival), options)
+        cap = _lower_cap((own_cap((parent, child)), own_cap(rival)))
         return _residual(acc, gyr, sig, parent, child, options, p.order_check_samples, cap)
 
     # thigh/shank exchanged: hip(pelvis, thigh) + ankle(shank, foot) against

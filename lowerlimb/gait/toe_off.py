@@ -127,8 +127,7 @@ def forefoot_unloading(
         k, z = br
         d = _first_trough(f, k, z, params.unloading_min_mps2)
         t = None if d is None else _half_way(f, k + int(np.argmax(f[k:d])), d)
-        middle = 0.5 * (parabolic_vertex(w, k) + _zero_crossing(w, z))
-        far = t is not None and abs(t - middle) > params.unloading_max_offset * (z - k)
+        far = t is not None and abs(t - _bracket_middle(w, k, z)) > params.unloading_max_offset * (z - k)
         out.append(None if far else t)
     return out
 
@@ -161,6 +160,11 @@ def _zero_crossing(w: FloatArray, z: int) -> float:
     return float(z - 1 + (-a) / (b - a)) if b > a else float(z)
 
 
+def _bracket_middle(w: FloatArray, k: int, z: int) -> float:
+    """Fractional sample index half-way between the rate's minimum ``k`` (parabola) and its crossing ``z``."""
+    return 0.5 * (parabolic_vertex(w, k) + _zero_crossing(w, z))
+
+
 def push_off_midpoint(
     foot_omega_rps: FloatArray, windows: list[tuple[int, int]], rate_hz: float, params: GaitParams
 ) -> list[float | None]:
@@ -182,5 +186,5 @@ def push_off_midpoint(
     out: list[float | None] = []
     for lo, hi in windows:
         br = _bracket(w, max(lo, 0), min(hi, w.shape[0]), params.event_min_rps)
-        out.append(None if br is None else 0.5 * (parabolic_vertex(w, br[0]) + _zero_crossing(w, br[1])))
+        out.append(None if br is None else _bracket_middle(w, *br))
     return out
