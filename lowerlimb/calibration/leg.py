@@ -375,8 +375,10 @@ def _aligned(
     fit across its axis only (the lever arms, the segment lengths); along the axis the
     centre is weakly determined by either form (:mod:`~lowerlimb.calibration.knee_line`) and
     the norm form's coordinates are kept: the aligned ones moved the real walk's standing
-    stance width from 29.5 to 22 cm (Vicon: 30.9) and its step-width error from 18 to 72 mm,
-    and the simulator's angles and lengths do not change either way.
+    stance width from 29.5 to 22 cm (Vicon: 30.9) and its step-width error from 18 to 72 mm.
+    Across the axis the aligned form undoes the norm form's shortening of both segments on
+    the simulator (docs/limits.md, "The aligned 3-D form"); the default keeps the norm form
+    there because the real walk's shanks disagree.
     """
     # imported here: the strapdown kernel loads numba and scipy's rotations (~0.2 s), which
     # the single-joint entry points (calibrate_spherical_joint, …) do not need
