@@ -3,7 +3,7 @@ import pytest
 from rigid_pair import rigid_pair
 
 from lowerlimb.constraints.angular_acceleration import angular_acceleration, smooth, window_length
-from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass, motion_bandwidth_hz
+from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass, motion_bandwidth_hz, usable_cutoff_hz
 from lowerlimb.errors import InputError, ShapeError
 
 
@@ -75,3 +75,20 @@ def test_lowpass_passes_the_band_and_removes_noise():
     assert np.array_equal(lowpass(x, 100.0, None), x)
     with pytest.raises(InputError, match="half the sampling rate"):
         lowpass(x, 100.0, 60.0)
+
+
+def test_a_derived_cutoff_past_nyquist_leaves_the_signal_unfiltered():
+    """A cap times a probe factor can pass 0.45·rate: that means no filter, not an error."""
+    from lowerlimb.calibration._prepare import prepare_signals
+    from lowerlimb.calibration.options import CalibrationOptions
+
+    assert usable_cutoff_hz(None, 100.0) is None
+    assert usable_cutoff_hz(96.1, 100.0) is None and usable_cutoff_hz(45.0, 100.0) is None
+    assert usable_cutoff_hz(44.9, 100.0) == 44.9
+    rng = np.random.default_rng(2)
+    gyr = {k: rng.normal(size=(600, 3)) for k in ("p", "c")}
+    acc = {k: 9.81 * np.array([0.0, 0.0, 1.0]) + rng.normal(size=(600, 3)) for k in ("p", "c")}
+    # the knee line's probes once asked for 3 x a 32 Hz cap at 100 Hz and raised InputError
+    sig = prepare_signals(acc, gyr, 100.0, CalibrationOptions(), n_still=100, set_hz={"p": 96.1, "c": 8.0})
+    assert sig.cutoff_hz == {"p": None, "c": 8.0}
+    np.testing.assert_allclose(sig.gyr["p"], gyr["p"] - sig.gyro_bias["p"])

@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike
 from lowerlimb.calibration.joint_cutoff import joint_cutoffs_hz
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.constraints.angular_acceleration import angular_acceleration, window_length
-from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass, rigid_band_hz
+from lowerlimb.constraints.prefilter import adaptive_cutoff_hz, lowpass, rigid_band_hz, usable_cutoff_hz
 from lowerlimb.constraints.regressor_noise import filter_noise_gains, white_noise_std
 from lowerlimb.constraints.spherical import SphericalData, kinematic_matrix
 from lowerlimb.conventions import MAX_GYRO_RAD_S as GYRO_DEG_PER_S_THRESHOLD
@@ -190,11 +190,11 @@ def prepare_signals(
     cutoff: dict[str, float | None] = {}
     for k, g in gyr_c.items():
         if set_hz is not None and k in set_hz:
-            cutoff[k] = set_hz[k]
+            cutoff[k] = usable_cutoff_hz(set_hz[k], rate_hz)
         elif not options.prefilter:
             cutoff[k] = None
         elif options.cutoff_hz is not None:
-            cutoff[k] = options.cutoff_hz if options.cutoff_hz < 0.45 * rate_hz else None
+            cutoff[k] = usable_cutoff_hz(options.cutoff_hz, rate_hz)
         else:
             cutoff[k] = adaptive_cutoff_hz(
                 g,
@@ -263,7 +263,7 @@ def rigid_band_cap_hz(
     if band is None:
         return None
     cap = max(options.rigid_band_min_hz, options.rigid_band_factor * band)
-    return cap if cap < 0.45 * rate_hz else None
+    return usable_cutoff_hz(cap, rate_hz)
 
 
 def joint_signals(

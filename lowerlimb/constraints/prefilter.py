@@ -36,7 +36,7 @@ from scipy.signal import butter, sosfiltfilt, welch
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError
 
-__all__ = ["motion_bandwidth_hz", "adaptive_cutoff_hz", "rigid_band_hz", "lowpass"]
+__all__ = ["motion_bandwidth_hz", "adaptive_cutoff_hz", "rigid_band_hz", "lowpass", "usable_cutoff_hz"]
 
 _NYQUIST_FRACTION = 0.45
 _SEGMENT_S = 5.12
@@ -198,6 +198,18 @@ def welch_spectra(
     P_bb = np.asarray((B.real**2 + B.imag**2).mean(axis=0) * scale * doubled, dtype=float)
     P_ab = np.asarray((np.conj(A) * B).mean(axis=0) * scale * doubled, dtype=np.complex128)
     return np.asarray(np.fft.rfftfreq(nper, 1.0 / rate_hz), dtype=float), P_aa, P_bb, P_ab
+
+
+def usable_cutoff_hz(cutoff_hz: float | None, rate_hz: float) -> float | None:
+    """``cutoff_hz``, or ``None`` (no filtering) when it reaches 0.45·rate.
+
+    A cut-off derived from others (a cap times a probe factor, a widened adaptive one)
+    can pass the Nyquist frequency; such a filter would keep everything, so the signal
+    is left unfiltered rather than refused.
+    """
+    if cutoff_hz is None or cutoff_hz >= _NYQUIST_FRACTION * rate_hz:
+        return None
+    return float(cutoff_hz)
 
 
 def lowpass(x: ArrayLike, rate_hz: float, cutoff_hz: float | None, order: int = 4) -> FloatArray:
