@@ -70,8 +70,10 @@ def test_a_bad_minimum_rate_is_refused_by_name():
 
 def test_a_60_hz_walk_places_the_ankle_as_a_100_hz_one():
     """Seven-IMU walk at 60 Hz, 20 s, seed 202: the ankle in the shank sensor was 108 mm off
-    fitted on the recorded samples and 14 mm interpolated to 120 Hz (100 Hz walks: 2-15 mm);
-    the calibration reports the recorded rate's still start in seconds either way."""
+    fitted on the recorded samples and 14 mm interpolated to 120 Hz (100 Hz walks: 2-15 mm)
+    before the ankle pair was low-passed at 12 Hz with impacts (``impact_max_cutoff_hz``);
+    now 15 and 8 mm. The calibration reports the recorded rate's still start in seconds
+    either way."""
     sim = simulate_bilateral(20.0, 202, rate_hz=60.0)
     leg = sim.trial.leg("left")
     true = np.asarray(sim.truth["legs"]["left"]["joints"]["ankle"]["center_in_parent_sensor"])
@@ -81,8 +83,8 @@ def test_a_60_hz_walk_places_the_ankle_as_a_100_hz_one():
         recorded = calibrate_leg(leg, options=CalibrationOptions(min_fit_rate_hz=None))
     err = float(np.linalg.norm(interp.ankle.center_in_parent_sensor - true))
     err_recorded = float(np.linalg.norm(recorded.ankle.center_in_parent_sensor - true))
-    assert err < 0.025
-    assert err < 0.5 * err_recorded
+    assert err < 0.012
+    assert err < 0.7 * err_recorded
     assert interp.still_s == pytest.approx(recorded.still_s, abs=0.02)
     assert interp.fit_rate_hz == pytest.approx(120.0) and recorded.fit_rate_hz == pytest.approx(60.0)
     doc = interp.to_dict()

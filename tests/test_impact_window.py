@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from lowerlimb.calibration.impact_window import impact_keep_mask, jerk_norm
+from lowerlimb.calibration.impact_window import impact_cutoff_limit_hz, impact_keep_mask, jerk_norm
 from lowerlimb.calibration.joint_center import calibrate_spherical_joint
 from lowerlimb.calibration.leg import LegCalibration, calibrate_leg
 from lowerlimb.calibration.options import CalibrationOptions
@@ -60,6 +60,7 @@ def test_no_more_than_the_allowed_fraction_is_left_out():
         {"impact_window_s": -0.01},
         {"impact_max_excluded": 1.0},
         {"impact_joints": ("knee",)},
+        {"impact_max_cutoff_hz": 0.0},
     ],
 )
 def test_options_refuse_bad_impact_settings(kw):
@@ -117,3 +118,48 @@ def test_the_pair_api_leaves_out_the_contacts_too(kinked_walk):
         errs[on] = float(np.linalg.norm(res.center_in_parent_sensor - truth))
         assert (res.impact_excluded_fraction > 0) == on
     assert errs[True] < 0.5 * errs[False]
+
+
+def test_the_cutoff_limit_needs_impacts_and_the_option():
+    o = CalibrationOptions()
+    some = np.ones(100, dtype=bool)
+    assert impact_cutoff_limit_hz(None, o) is None
+    assert impact_cutoff_limit_hz(some, o) is None  # smooth motion: nothing left out
+    some[40:45] = False
+    assert impact_cutoff_limit_hz(some, o) == o.impact_max_cutoff_hz == 12.0
+    assert impact_cutoff_limit_hz(some, CalibrationOptions(impact_max_cutoff_hz=None)) is None
+
+
+def test_the_limit_filters_an_unfiltered_pair_and_keeps_a_lower_cutoff():
+    from lowerlimb.calibration._prepare import joint_signals, prepare_signals
+
+    rng = np.random.default_rng(3)
+    n = 1500
+    gyr = {k: rng.normal(size=(n, 3)) for k in ("shank", "foot")}
+    acc = {k: np.array([0.0, 0.0, 9.81]) + rng.normal(size=(n, 3)) for k in ("shank", "foot")}
+    o = CalibrationOptions(rigid_band=False)
+    for set_hz, limit, want in (
+        ({"shank": None, "foot": None}, 12.0, 12.0),
+        ({"shank": 6.0, "foot": 6.0}, 12.0, 6.0),
+        ({"shank": None, "foot": None}, 60.0, None),  # past 0.45 x 100 Hz: no limit
+    ):
+        sig = prepare_signals(acc, gyr, 100.0, o, n_still=100, set_hz=set_hz)
+        data = joint_signals(acc, gyr, sig, "shank", "foot", o, max_hz=limit)
+        ref = prepare_signals(acc, gyr, 100.0, o, n_still=100, set_hz={"shank": want, "foot": want})
+        np.testing.assert_allclose(data.gyr_parent, ref.gyr["shank"])
+        np.testing.assert_allclose(data.acc_child, ref.acc["foot"])
+
+
+def test_the_limit_places_a_slow_walkers_ankle_along_its_axis():
+    """On a slow walk the unfiltered contacts put the ankle 4 cm lateral in the shank sensor."""
+    sim = simulate_bilateral(30.0, 201, pace="slow")
+    trial = sim.trial.leg("left")
+    truth = np.asarray(sim.truth["legs"]["left"]["joints"]["ankle"]["center_in_parent_sensor"])
+    err = {}
+    for limit in (None, 12.0):
+        cal = calibrate_leg(trial, options=CalibrationOptions(impact_max_cutoff_hz=limit))
+        err[limit] = float(np.linalg.norm(cal.ankle.center_in_parent_sensor - truth))
+        assert cal.impact_cutoff_hz == ({} if limit is None else {"shank-foot": 12.0})
+    assert err[None] > 0.025 and err[12.0] < 0.4 * err[None], err
+    back = LegCalibration.from_dict(json.loads(json.dumps(cal.to_dict())))
+    assert back.impact_cutoff_hz == {"shank-foot": 12.0}

@@ -277,6 +277,7 @@ def joint_signals(
     cap_hz: float | None = None,
     *,
     own_band: bool = True,
+    max_hz: float | None = None,
 ) -> SphericalData:
     """One joint's pair data, filtered at the joint's cut-offs (:mod:`~lowerlimb.calibration.joint_cutoff`).
 
@@ -298,6 +299,9 @@ def joint_signals(
         own_band: also compute the pair's own rigid band. A hinge sets it
             ``False``: its accelerometer norms need not agree, and it takes
             the caps of its neighbouring spherical joints instead.
+        max_hz: an upper limit on both sensors' cut-offs after the cap, Hz (an
+            unfiltered sensor is filtered at it; ``None``: no limit;
+            :func:`~lowerlimb.calibration.impact_window.impact_cutoff_limit_hz`).
 
     Returns:
         The pair data.
@@ -308,6 +312,7 @@ def joint_signals(
     if caps is not None:
         caps[f"{parent}-{child}"] = cap
     want = joint_cutoffs_hz(sig.cutoff_hz[parent], sig.cutoff_hz[child], cap, options)
+    want = (_limited(want[0], max_hz, sig.rate_hz), _limited(want[1], max_hz, sig.rate_hz))
     if want == (sig.cutoff_hz[parent], sig.cutoff_hz[child]):
         return pair_data(sig, parent, child)
     sub = prepare_signals(
@@ -320,6 +325,14 @@ def joint_signals(
         bias={k: sig.gyro_bias[k] for k in (parent, child)},
     )
     return pair_data(sub, parent, child)
+
+
+def _limited(cutoff_hz: float | None, max_hz: float | None, rate_hz: float) -> float | None:
+    """``cutoff_hz`` (``None``: unfiltered) held at or below ``max_hz`` where that can filter."""
+    lim = usable_cutoff_hz(max_hz, rate_hz)
+    if lim is None:
+        return cutoff_hz
+    return lim if cutoff_hz is None else min(cutoff_hz, lim)
 
 
 def pair_data(sig: PreparedSignals, parent: str = "p", child: str = "c") -> SphericalData:

@@ -63,6 +63,7 @@ def with_cutoff_shifts(
     sig: PreparedSignals,
     options: CalibrationOptions,
     refit: Refit,
+    limits: Mapping[str, float | None] | None = None,
 ) -> dict[str, SphericalJointCalibration]:
     """Each joint with its :attr:`~SphericalJointCalibration.cutoff_shift` recorded (module docstring).
 
@@ -74,6 +75,8 @@ def with_cutoff_shifts(
         sig: the prepared signals of the main fit (still period and gyro biases reused).
         options: the main fit's options.
         refit: fits one joint on the widened data, quietly.
+        limits: ``{name: Hz or None}`` each joint's impact cut-off limit in the main fit
+            (:func:`~lowerlimb.calibration.impact_window.impact_cutoff_limit_hz`), widened too.
 
     Returns:
         The joints, each a copy with ``cutoff_shift`` set (m).
@@ -85,7 +88,9 @@ def with_cutoff_shifts(
         warnings.simplefilter("ignore")
         for name, joint in joints.items():
             p, c = pairs[name]
-            probe = refit(name, joint_signals(acc, gyr, wsig, p, c, wide), wide)
+            lim = (limits or {}).get(name)
+            wide_lim = None if lim is None else lim * options.cutoff_probe_factor
+            probe = refit(name, joint_signals(acc, gyr, wsig, p, c, wide, max_hz=wide_lim), wide)
             x = np.r_[joint.center_in_parent_sensor, joint.center_in_child_sensor]
             xp = np.r_[probe.center_in_parent_sensor, probe.center_in_child_sensor]
             out[name] = replace(joint, cutoff_shift=xp - x)

@@ -40,7 +40,7 @@ from lowerlimb.calibration._solve import subsample_step
 from lowerlimb.calibration.cutoff_probe import with_cutoff_shifts
 from lowerlimb.calibration.excitation import issue_warnings
 from lowerlimb.calibration.hinge_joint import fit_hinge_joint
-from lowerlimb.calibration.impact_window import impact_keep_mask
+from lowerlimb.calibration.impact_window import impact_cutoff_limit_hz, impact_keep_mask
 from lowerlimb.calibration.joint_center import fit_spherical
 from lowerlimb.calibration.joint_cutoff import joint_cutoffs_hz
 from lowerlimb.calibration.knee_line import axis_mismatch_message, standing_axis_mismatch, with_knee_line
@@ -85,6 +85,9 @@ class LegCalibration:
         cutoff_hz: ``{sensor: Hz or None}`` prefilter cut-offs.
         rigid_band_cap_hz: ``{"parent-child": Hz or None}`` the cap the rigid band
             of each joint's sensor pair put on its cut-offs (``None``: no cap).
+        impact_cutoff_hz: ``{"parent-child": Hz}`` the limit on the cut-offs of a pair
+            whose joint leaves impacts out, where the trial had impacts
+            (``CalibrationOptions.impact_max_cutoff_hz``; empty: none).
         priors: ``{"hip"|"ankle": {"on", "mean", "std_m"}}`` the anthropometric
             priors used (:mod:`~lowerlimb.calibration.segment_prior`; empty: none).
         clock_offsets: the sensors' clock offsets found and the re-timing applied
@@ -104,6 +107,7 @@ class LegCalibration:
     still_s: float = 0.0
     cutoff_hz: dict[str, float | None] = field(default_factory=dict)
     rigid_band_cap_hz: dict[str, float | None] = field(default_factory=dict)
+    impact_cutoff_hz: dict[str, float] = field(default_factory=dict)
     priors: dict[str, dict[str, Any]] = field(default_factory=dict)
     clock_offsets: dict[str, Any] = field(default_factory=dict)
     fit_rate_hz: float = 0.0
@@ -132,6 +136,7 @@ class LegCalibration:
             "rigid_band_cap_hz": {
                 k: (None if v is None else float(v)) for k, v in self.rigid_band_cap_hz.items()
             },
+            "impact_cutoff_hz": {k: float(v) for k, v in self.impact_cutoff_hz.items()},
             "anthropometric_prior": dict(self.priors),
             "clock_offsets": dict(self.clock_offsets),
             "fit_rate_hz": float(self.fit_rate_hz),
@@ -163,6 +168,7 @@ class LegCalibration:
                 still_s=float(d.get("still_period_s", 0.0)),
                 cutoff_hz=dict(d.get("prefilter_cutoff_hz", {})),
                 rigid_band_cap_hz=dict(d.get("rigid_band_cap_hz", {})),
+                impact_cutoff_hz={k: float(v) for k, v in d.get("impact_cutoff_hz", {}).items()},
                 priors=dict(d.get("anthropometric_prior", {})),
                 clock_offsets=dict(d.get("clock_offsets", {})),
                 fit_rate_hz=float(d.get("fit_rate_hz", 0.0)),
@@ -289,9 +295,17 @@ def calibrate_leg(
 
     caps: dict[str, float | None] = {}
     p, c, _ = JOINT_SENSORS["hip"]
-    hip_data = joint_signals(acc, gyr, sig, p, c, opts, caps)
     pa, ca, _ = JOINT_SENSORS["ankle"]
-    ankle_data = joint_signals(acc, gyr, sig, pa, ca, opts, caps)
+    hip_keep, ankle_keep = (
+        impact_keep_mask((acc[s], acc[t], acc["foot"]), rate, opts)
+        if opts.impact_exclusion and joint in opts.impact_joints
+        else None
+        for joint, s, t in (("hip", p, c), ("ankle", pa, ca))
+    )
+    limits = {j: impact_cutoff_limit_hz(kp, opts) for j, kp in (("hip", hip_keep), ("ankle", ankle_keep))}
+    pair_keys = {"hip": f"{p}-{c}", "ankle": f"{pa}-{ca}"}
+    hip_data = joint_signals(acc, gyr, sig, p, c, opts, caps, max_hz=limits["hip"])
+    ankle_data = joint_signals(acc, gyr, sig, pa, ca, opts, caps, max_hz=limits["ankle"])
     near = [v for v in caps.values() if v is not None]
     pk, ck, _ = JOINT_SENSORS["knee"]
     knee = fit_hinge_joint(
@@ -307,12 +321,6 @@ def calibrate_leg(
     hip_prior, ankle_prior = (
         leg_priors(knee, acc, sig.n_still, opts) if opts.anthropometric_prior else (None, None)
     )
-    hip_keep, ankle_keep = (
-        impact_keep_mask((acc[s], acc[t], acc["foot"]), rate, opts)
-        if opts.impact_exclusion and joint in opts.impact_joints
-        else None
-        for joint, s, t in (("hip", p, c), ("ankle", pa, ca))
-    )
     hip, ankle = (
         fit_spherical(
             data, method=method, options=opts, joint=joint, parent_sensor=s, child_sensor=t, prior=pr, keep=kp
@@ -324,7 +332,7 @@ def calibrate_leg(
     )
     setup = {"hip": (p, c, hip_prior, hip_keep), "ankle": (pa, ca, ankle_prior, ankle_keep)}
     if opts.cutoff_probe:
-        hip, ankle = _probe_cutoffs(hip, ankle, setup, acc, gyr, sig, method, opts)
+        hip, ankle = _probe_cutoffs(hip, ankle, setup, limits, acc, gyr, sig, method, opts)
     if opts.split_half_probe:
         hip, ankle = (
             _probe_halves(j, d, setup[j.joint], sig.n_still, method, opts)
@@ -348,6 +356,7 @@ def calibrate_leg(
         still_s=sig.n_still / rate,
         cutoff_hz=sig.cutoff_hz,
         rigid_band_cap_hz=caps,
+        impact_cutoff_hz={pair_keys[j]: v for j, v in limits.items() if v is not None},
         fit_rate_hz=rate,
         priors=priors,
     )
@@ -521,6 +530,7 @@ def _probe_cutoffs(
     hip: SphericalJointCalibration,
     ankle: SphericalJointCalibration,
     setup: Mapping[str, tuple[str, str, CenterPrior | None, ArrayLike | None]],
+    limits: Mapping[str, float | None],
     acc: dict[str, FloatArray],
     gyr: dict[str, FloatArray],
     sig: PreparedSignals,
@@ -529,7 +539,8 @@ def _probe_cutoffs(
 ) -> tuple[SphericalJointCalibration, SphericalJointCalibration]:
     """Hip and ankle with their cut-off shifts recorded (:mod:`~lowerlimb.calibration.cutoff_probe`).
 
-    ``setup`` is ``{joint: (parent sensor, child sensor, prior, keep mask)}`` of the main fits.
+    ``setup`` is ``{joint: (parent sensor, child sensor, prior, keep mask)}`` of the main fits,
+    ``limits`` their impact cut-off limits (widened with every other cut-off).
     """
 
     def refit(name: str, data: SphericalData, o: CalibrationOptions) -> SphericalJointCalibration:
@@ -550,7 +561,7 @@ def _probe_cutoffs(
         )
 
     pairs = {k: (v[0], v[1]) for k, v in setup.items()}
-    out = with_cutoff_shifts({"hip": hip, "ankle": ankle}, pairs, acc, gyr, sig, options, refit)
+    out = with_cutoff_shifts({"hip": hip, "ankle": ankle}, pairs, acc, gyr, sig, options, refit, limits)
     return out["hip"], out["ankle"]
 
 
