@@ -174,16 +174,18 @@ class CalibrationOptions:
             reach of the prefilter and of the α derivative's smearing).
         impact_max_excluded: at most this fraction of the samples is left out (0–1);
             beyond it the jerk threshold is raised.
-        impact_max_cutoff_hz: when a trial has impacts, the pairs of ``impact_joints``
-            are low-passed at no more than this, Hz, both sensors alike (``None``: no
-            limit; :func:`~lowerlimb.calibration.impact_window.impact_cutoff_limit_hz`).
+        impact_max_cutoff_hz: when a leg's trial has impacts, the pairs of
+            ``impact_joints`` are low-passed at no more than this, Hz, both sensors alike
+            (``None``: no limit; :func:`~lowerlimb.calibration.impact_window.impact_cutoff_limit_hz`;
+            the single-joint entry points keep their pair's cut-off).
             A foot's gyro is broadband with its contacts, so its adaptive cut-off
             leaves the pair unfiltered, and the unfiltered contacts bias the ankle
             centre along its flexion axis, where walking pins it least. On rigid
             seven-IMU simulated walks (six seeds per pace) the ankle in the shank
             sensor went from 8.5 / 44 / 38 mm median (normal / slow / shuffling pace;
-            134 / 64 / 84 worst) to 4.6 / 6.0 / 5.2 (24 / 16 / 9); at 10 Hz 6.2 / 7.2 /
-            3.5, at 15 Hz 5.8 / 10.4 / 11.5, at 20 Hz 3.7 / 14.6 / 15.1. Walking's
+            134 / 64 / 84 worst) to 4.6 / 6.0 / 5.2 (134 / 49 / 9.4 worst, where a lower
+            rigid-band cap binds); with both sensors forced to 10 Hz 6.2 / 7.2 / 3.5, to
+            15 Hz 5.8 / 10.4 / 11.5, to 20 Hz 3.7 / 14.6 / 15.1. Walking's
             kinematics lie below it (gait's marker data are low-passed at about 6 Hz,
             Winter 2009). Real legs' soft tissue usually caps the pair lower already
             (the rigid band: 5.5 / 7.0 Hz on the real walk of ``gait/``).
