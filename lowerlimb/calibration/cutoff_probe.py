@@ -43,12 +43,17 @@ Refit = Callable[[str, SphericalData, CalibrationOptions], SphericalJointCalibra
 
 
 def probe_options(options: CalibrationOptions) -> CalibrationOptions:
-    """The options with every cut-off widened by ``cutoff_probe_factor`` and no warnings issued."""
+    """The options with every cut-off (and cut-off limit) widened by ``cutoff_probe_factor``, no warnings."""
     f = options.cutoff_probe_factor
+
+    def wider(hz: float | None) -> float | None:
+        return None if hz is None else hz * f
+
     return replace(
         options,
         cutoff_factor=options.cutoff_factor * f,
-        cutoff_hz=None if options.cutoff_hz is None else options.cutoff_hz * f,
+        cutoff_hz=wider(options.cutoff_hz),
+        impact_max_cutoff_hz=wider(options.impact_max_cutoff_hz),
         rigid_band_factor=options.rigid_band_factor * f,
         center_std_tol_m=np.inf,
         min_rms_rate_rps=0.0,
@@ -88,8 +93,8 @@ def with_cutoff_shifts(
         warnings.simplefilter("ignore")
         for name, joint in joints.items():
             p, c = pairs[name]
-            lim = (limits or {}).get(name)
-            wide_lim = None if lim is None else lim * options.cutoff_probe_factor
+            limited = (limits or {}).get(name) is not None
+            wide_lim = wide.impact_max_cutoff_hz if limited else None
             probe = refit(name, joint_signals(acc, gyr, wsig, p, c, wide, max_hz=wide_lim), wide)
             x = np.r_[joint.center_in_parent_sensor, joint.center_in_child_sensor]
             xp = np.r_[probe.center_in_parent_sensor, probe.center_in_child_sensor]
