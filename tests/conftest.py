@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import signal
 
+import blas_threads  # noqa: F401  (before numpy: one BLAS thread per worker)
 import pytest
 from required_skips import pytest_configure, pytest_runtest_makereport  # noqa: F401  (hooks)
 from simcache import cached_simulation

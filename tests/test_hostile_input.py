@@ -222,10 +222,11 @@ def test_estimate_joint_center_refuses_acceleration_in_g(walk_clean):
     "content, message",
     [
         ("time,pelvis_acc_x µ\n0,1\n".encode("latin-1"), "not UTF-8 text"),
-        (gzip.compress(b"time,pelvis_acc_x\n0,1\n"), "gzip-compressed"),
+        (gzip.compress(b"time,pelvis_acc_x\n0,1\n", mtime=0), "gzip-compressed"),
         (bytes(range(256)) * 4, "binary file"),
         (b"time;pelvis_acc_x;pelvis_acc_y\n0;9,81;0,1\n", "separates its columns with semicolons"),
     ],
+    ids=["latin-1", "gzip", "binary", "semicolons"],
 )
 def test_unreadable_trial_files_name_the_problem(files, tmp_path, capsys, content, message):
     trial = tmp_path / "bad.csv"
