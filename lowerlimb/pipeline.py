@@ -160,6 +160,40 @@ class Orientations:
     magnetometer_note: str = ""
 
 
+def _calibrate_synchronised(
+    trial: ImuTrial,
+    method: str,
+    still: StillPeriod,
+    previous: LegCalibration | None,
+    options: CalibrationOptions,
+) -> tuple[ImuTrial, LegCalibration]:
+    """Stage 1 with the clock search: the (re-timed) trial and its calibration.
+
+    The clock search (:func:`~lowerlimb.calibration.clock_sync.synchronise`) calibrates
+    again on each re-timed trial, and every calibration warns of its own fit: the
+    warnings of the calibrations it replaced are dropped and those of the one kept are
+    issued once (before, a re-timed trial repeated each excitation warning two or three
+    times, with slightly different numbers).
+    """
+    kept: list[warnings.WarningMessage] = []
+
+    def calibrate(t: ImuTrial) -> LegCalibration:
+        nonlocal kept
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            cal = calibrate_joints(t, method, still, previous, options)
+        kept = list(caught)
+        return cal
+
+    calib = calibrate(trial)
+    if previous is None and options.clock_sync:
+        trial, calib, offsets = synchronise(trial, calib, calibrate, options)
+        calib = replace(calib, clock_offsets=offsets.to_dict())
+    for w in kept:
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return trial, calib
+
+
 def calibrate_joints(
     trial: ImuTrial,
     method: str,
@@ -357,12 +391,7 @@ def process_trial(
     clock.start()
     # the subject's stature scales the anthropometric prior of the calibration
     cal_options = replace(calibration_options or CalibrationOptions(), prior_stature_m=height_m)
-    calib = calibrate_joints(trial, method, still, calibration, cal_options)
-    if calibration is None and cal_options.clock_sync:
-        trial, calib, offsets = synchronise(
-            trial, calib, lambda t: calibrate_joints(t, method, still, None, cal_options), cal_options
-        )
-        calib = replace(calib, clock_offsets=offsets.to_dict())
+    trial, calib = _calibrate_synchronised(trial, method, still, calibration, cal_options)
     up = {s: trial.acc[s][reference].mean(axis=0) for s in ("thigh", "shank")}
     calib = with_plausible_lengths(calib, up, height_m=height_m)
     clock.stop("joint calibration", "" if calibration is None else "reused, not estimated")

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 import warnings
+from collections import Counter
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -17,6 +19,7 @@ from lowerlimb.calibration.clock_sync import (
     joint_lag,
     retime,
 )
+from lowerlimb.calibration.excitation import ExcitationWarning
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.errors import InputError
 from lowerlimb.io.trial import ImuTrial
@@ -107,6 +110,23 @@ def test_offset_clocks_are_found_and_the_joints_recover() -> None:
             err_plain = np.linalg.norm(getattr(plain.calibration.joints[joint], key) - t_c)
             err_sync = np.linalg.norm(getattr(synced.calibration.joints[joint], key) - t_c)
             assert err_sync <= err_plain + 0.002, (joint, key, err_plain, err_sync)
+
+
+def test_a_retimed_walk_warns_once_of_each_finding() -> None:
+    """The clock search calibrates again; only the kept calibration's warnings are issued."""
+    sim = cached_simulation("walk", 20.0, 3, artefacts=replace(Artefacts.real_walk(), seed=3))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = process_trial(sim.trial)
+    assert any(res.calibration.clock_offsets["shift_s"].values())  # the walk was re-timed
+    assert [w.category for w in caught].count(ClockOffsetWarning) == 1
+    findings = [str(w.message) for w in caught if issubclass(w.category, ExcitationWarning)]
+    assert findings  # the artefacts leave something to warn of
+    # each finding once (a replaced calibration's copy differs only in its numbers)
+    kinds = Counter(m.split("(")[0] for m in findings)
+    assert max(kinds.values()) == 1, kinds
+    kept = [m for j in res.calibration.joints.values() for m in j.warnings]
+    assert set(findings) <= set(kept)
 
 
 def test_a_synchronised_walk_is_not_retimed() -> None:
