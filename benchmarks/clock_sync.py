@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from lowerlimb.bilateral import process_bilateral_trial
+from lowerlimb.bilateral.pelvis import OppositeKneesError
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.conventions import SIDES
 from lowerlimb.io import load_xsens
@@ -67,12 +68,18 @@ def score_seed(seed: int, artefacts: Artefacts) -> dict[str, Any]:
     out: dict[str, Any] = {"seed": seed}
     for on in (False, True):
         t0 = time.perf_counter()
+        kw: dict[str, Any] = {"calibration_options": CalibrationOptions(clock_sync=on), "side_check": False}
+        key = "sync" if on else "plain"
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            res = process_bilateral_trial(
-                sim.trial, calibration_options=CalibrationOptions(clock_sync=on), side_check=False
-            )
-        key = "sync" if on else "plain"
+            try:
+                res = process_bilateral_trial(sim.trial, **kw)
+                out[f"{key}_one_pelvis_refused"] = False
+            except OppositeKneesError:
+                # the legs' pelvis frames point apart (an undetermined hip turned a thigh's
+                # heading): counted, then scored with each leg's own pelvis, as gait.py does
+                out[f"{key}_one_pelvis_refused"] = True
+                res = process_bilateral_trial(sim.trial, one_pelvis=False, **kw)
         pair_err = []
         for side in SIDES:
             truth = _pair_lags(off, side)
@@ -131,11 +138,22 @@ def markdown(res: dict[str, Any]) -> str:
                 + " |"
             )
         wall = [t["sync"]["wall_s"] - t["plain"]["wall_s"] for t in trials]
+        refused = [
+            f"{t['seed']} ({', '.join(k for k in ('plain', 'sync') if t.get(f'{k}_one_pelvis_refused'))})"
+            for t in trials
+            if t.get("plain_one_pelvis_refused") or t.get("sync_one_pelvis_refused")
+        ]
         L += [
             "",
             f"Extra wall time of the two-leg processing with clock sync: median {np.median(wall):.1f} s.",
             "",
         ]
+        if refused:
+            L += [
+                "Refused by the one-pelvis check (opposite knees), scored with each leg's own pelvis: "
+                f"seed {'; '.join(refused)}.",
+                "",
+            ]
     if res.get("real"):
         L += [
             "## Real walk (`gait/`, Xsens MTw, one clock)",

@@ -30,6 +30,7 @@ from .calibration.axial_sign import axial_sign_correlation, gyro_sign_is_clear
 from .calibration.clock_sync import synchronise
 from .calibration.options import CalibrationOptions
 from .calibration.plausibility import SIDE_MIN_MOTION_S, check_side, pelvis_turn_side_cue
+from .calibration.rest_gravity import AccelerometerOffsetWarning, rest_gravity_notes, rest_gravity_offsets
 from .conventions import SENSORS, FloatArray, quat_from_matrix
 from .errors import InputError
 from .io.trial import ImuTrial
@@ -158,6 +159,16 @@ class Orientations:
     quat_wxyz: dict[str, FloatArray]
     used_mag: bool
     magnetometer_note: str = ""
+
+
+def _warn_rest_gravity(trial: ImuTrial, still: StillPeriod, options: CalibrationOptions) -> None:
+    """Warn of each accelerometer whose norm at the standing start is far from gravity."""
+    n = still.samples(1.0)
+    if options.rest_gravity_warn_mps2 is None or not n:
+        return
+    offsets = rest_gravity_offsets(trial.acc, slice(0, n))
+    for note in rest_gravity_notes(offsets, options.rest_gravity_warn_mps2):
+        warnings.warn(note, AccelerometerOffsetWarning, stacklevel=3)
 
 
 def _calibrate_synchronised(
@@ -391,6 +402,7 @@ def process_trial(
     clock.start()
     # the subject's stature scales the anthropometric prior of the calibration
     cal_options = replace(calibration_options or CalibrationOptions(), prior_stature_m=height_m)
+    _warn_rest_gravity(trial, still, cal_options)
     trial, calib = _calibrate_synchronised(trial, method, still, calibration, cal_options)
     up = {s: trial.acc[s][reference].mean(axis=0) for s in ("thigh", "shank")}
     calib = with_plausible_lengths(calib, up, height_m=height_m)

@@ -262,6 +262,10 @@ class CalibrationOptions:
         clock_split_tol_s: ... and when the lags of the trial's two halves agree within this, s.
         clock_lowpass_hz: low-pass of those norms before they are compared, Hz.
         clock_passes: at most this many estimate-and-recalibrate passes.
+        rest_gravity_warn_mps2: warn (:class:`~lowerlimb.calibration.rest_gravity.AccelerometerOffsetWarning`)
+            when an accelerometer's norm at the standing start is further than this from
+            9.81 m/s², m/s² (``None``: no check; :mod:`~lowerlimb.calibration.rest_gravity`). The
+            real walk's Xsens MTw are within 0.14; local gravity varies by ±0.03.
     """
 
     prefilter: bool = True
@@ -345,6 +349,7 @@ class CalibrationOptions:
     clock_split_tol_s: float = 0.005
     clock_lowpass_hz: float = 10.0
     clock_passes: int = 3
+    rest_gravity_warn_mps2: float | None = 0.2
 
     def __post_init__(self) -> None:
         if self.angacc_window_s <= 0:
@@ -379,6 +384,10 @@ class CalibrationOptions:
             raise InputError(f"impact_joints may hold 'hip' and 'ankle', got {sorted(unknown)}")
         if not 0.0 <= self.impact_max_excluded < 1.0:
             raise InputError(f"impact_max_excluded must be in [0, 1), got {self.impact_max_excluded}")
+        if self.rest_gravity_warn_mps2 is not None and not self.rest_gravity_warn_mps2 > 0:
+            raise InputError(
+                f"rest_gravity_warn_mps2 must be > 0 m/s² or None, got {self.rest_gravity_warn_mps2}"
+            )
         if self.impact_max_cutoff_hz is not None and not self.impact_max_cutoff_hz > 0:
             raise InputError(f"impact_max_cutoff_hz must be > 0 Hz or None, got {self.impact_max_cutoff_hz}")
         if not all(f > 0 for f in self.knee_line_probe_factors):

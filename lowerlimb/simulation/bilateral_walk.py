@@ -351,6 +351,7 @@ def _measure(
         gyr[s] = m_gyr[s] + bias[s] + noise.gyr_std_rps * rng.normal(size=(t.size, 3))
         acc[s] = m_acc[s] + noise.acc_std_mps2 * rng.normal(size=(t.size, 3))
         mag[s] = m_mag[s] + noise.mag_std_ut * rng.normal(size=(t.size, 3))
+        acc[s] = acc[s] + noise.acc_bias(rng)
     return BilateralTrial(t.copy(), acc, gyr, mag if with_mag else None), bias
 
 

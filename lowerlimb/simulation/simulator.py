@@ -478,6 +478,7 @@ def _measure(
         n_gyr[sensor] = m_gyr[sensor] + bias[sensor] + noise.gyr_std_rps * rng.normal(size=(n, 3))
         n_acc[sensor] = m_acc[sensor] + noise.acc_std_mps2 * rng.normal(size=(n, 3))
         n_mag[sensor] = m_mag[sensor] + noise.mag_std_ut * rng.normal(size=(n, 3))
+        n_acc[sensor] = n_acc[sensor] + noise.acc_bias(rng)
     return ImuTrial(t.copy(), n_acc, n_gyr, n_mag if with_mag else None, side), bias
 
 
