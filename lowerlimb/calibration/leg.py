@@ -45,13 +45,14 @@ from lowerlimb.calibration.joint_center import fit_spherical
 from lowerlimb.calibration.joint_cutoff import joint_cutoffs_hz
 from lowerlimb.calibration.knee_line import axis_mismatch_message, standing_axis_mismatch, with_knee_line
 from lowerlimb.calibration.options import CalibrationOptions, check_method
+from lowerlimb.calibration.rest_gravity import vertical_offsets_removed
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.calibration.segment_prior import CenterPrior, center_prior, segment_up
 from lowerlimb.calibration.split_half import half_masks, split_half_message, split_half_shift
 from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import JOINT_SENSORS, SENSORS, FloatArray
 from lowerlimb.errors import InputError
-from lowerlimb.stillness import StillPeriod
+from lowerlimb.stillness import StillPeriod, detect_still_period
 from lowerlimb.upsample import upsample_factor, upsampled, upsampled_still
 
 __all__ = ["CALIBRATION_FORMAT", "LegCalibration", "calibrate_leg"]
@@ -95,6 +96,9 @@ class LegCalibration:
         fit_rate_hz: the rate the joints were fitted at, Hz: the recorded one, or a multiple
             of it for a trial below ``min_fit_rate_hz`` (:mod:`~lowerlimb.upsample`;
             0: not recorded).
+        rest_gravity_offsets: ``{sensor: m/s²}`` each accelerometer's norm at the standing
+            start minus 9.81, taken off along its standing vertical before the fits
+            (:mod:`~lowerlimb.calibration.rest_gravity`; empty: not applied).
     """
 
     side: str
@@ -111,6 +115,7 @@ class LegCalibration:
     priors: dict[str, dict[str, Any]] = field(default_factory=dict)
     clock_offsets: dict[str, Any] = field(default_factory=dict)
     fit_rate_hz: float = 0.0
+    rest_gravity_offsets: dict[str, float] = field(default_factory=dict)
 
     @property
     def joints(self) -> dict[str, SphericalJointCalibration | HingeJointCalibration]:
@@ -140,6 +145,7 @@ class LegCalibration:
             "anthropometric_prior": dict(self.priors),
             "clock_offsets": dict(self.clock_offsets),
             "fit_rate_hz": float(self.fit_rate_hz),
+            "rest_gravity_offset_mps2": {k: float(v) for k, v in self.rest_gravity_offsets.items()},
             "warnings": self.warnings,
         }
 
@@ -172,6 +178,7 @@ class LegCalibration:
                 priors=dict(d.get("anthropometric_prior", {})),
                 clock_offsets=dict(d.get("clock_offsets", {})),
                 fit_rate_hz=float(d.get("fit_rate_hz", 0.0)),
+                rest_gravity_offsets={k: float(v) for k, v in d.get("rest_gravity_offset_mps2", {}).items()},
             )
         except KeyError as e:
             raise InputError(f"calibration document lacks the key {e.args[0]!r}") from None
@@ -284,6 +291,11 @@ def calibrate_leg(
     check_duration(n, rate, opts)
 
     t0 = time.perf_counter()
+    still = still or detect_still_period(list(gyr.values()), list(acc.values()), rate)
+    offsets: dict[str, float] = {}
+    n_rest = still.samples(opts.still_min_s)
+    if opts.rest_gravity_correction and n_rest:
+        acc, offsets = vertical_offsets_removed(acc, slice(0, n_rest))
     k = upsample_factor(rate, opts.min_fit_rate_hz)
     if k > 1:
         acc, gyr, rate, still = upsampled(acc, k), upsampled(gyr, k), rate * k, upsampled_still(still, k)
@@ -359,6 +371,7 @@ def calibrate_leg(
         impact_cutoff_hz={pair_keys[j]: v for j, v in limits.items() if v is not None},
         fit_rate_hz=rate,
         priors=priors,
+        rest_gravity_offsets=offsets,
     )
 
 

@@ -266,6 +266,12 @@ class CalibrationOptions:
             when an accelerometer's norm at the standing start is further than this from
             9.81 m/s², m/s² (``None``: no check; :mod:`~lowerlimb.calibration.rest_gravity`). The
             real walk's Xsens MTw are within 0.14; local gravity varies by ±0.03.
+        rest_gravity_correction: take each accelerometer's offset at the standing start off
+            along its standing vertical before the joint fits
+            (:func:`~lowerlimb.calibration.rest_gravity.vertical_offsets_removed`; nothing
+            without a standing start). Every sensor at rest reads the same gravity, so the
+            differences of their norms are sensor errors, which the joint constraint turns
+            into centimetres of centre (``benchmarks/results/acc_bias.md``).
     """
 
     prefilter: bool = True
@@ -350,6 +356,7 @@ class CalibrationOptions:
     clock_lowpass_hz: float = 10.0
     clock_passes: int = 3
     rest_gravity_warn_mps2: float | None = 0.2
+    rest_gravity_correction: bool = True
 
     def __post_init__(self) -> None:
         if self.angacc_window_s <= 0:
