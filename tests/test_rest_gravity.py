@@ -9,11 +9,13 @@ import numpy as np
 import pytest
 from simcache import cached_simulation
 
+from lowerlimb.calibration import LegCalibration, calibrate_leg
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.calibration.rest_gravity import (
     AccelerometerOffsetWarning,
     rest_gravity_notes,
     rest_gravity_offsets,
+    vertical_offsets_removed,
 )
 from lowerlimb.errors import InputError
 from lowerlimb.pipeline import process_trial
@@ -56,3 +58,30 @@ def test_a_biased_accelerometer_is_warned_and_a_clean_one_is_not() -> None:
 def test_the_option_is_checked() -> None:
     with pytest.raises(InputError, match="rest_gravity_warn_mps2"):
         CalibrationOptions(rest_gravity_warn_mps2=0.0)
+
+
+def test_the_removal_takes_off_the_rest_offset_along_the_vertical_only() -> None:
+    rng = np.random.default_rng(0)
+    up = np.array([0.6, 0.0, 0.8])
+    a = np.tile(10.11 * up, (300, 1))
+    a[100:] += rng.normal(size=(200, 3))  # the motion after the standing start
+    out, off = vertical_offsets_removed({"thigh": a}, slice(0, 100))
+    assert off["thigh"] == pytest.approx(0.30)
+    assert np.linalg.norm(out["thigh"][:100].mean(axis=0)) == pytest.approx(9.81)
+    np.testing.assert_allclose(out["thigh"] - a, np.tile(-0.30 * up, (300, 1)), atol=1e-12)
+
+
+def test_the_calibration_records_the_offsets_it_removed() -> None:
+    sim = cached_simulation("walk", 20.0, 0, noise=ImuNoise.none())
+    a = sim.trial.acc["shank"]
+    up = a[:50].mean(axis=0) / np.linalg.norm(a[:50].mean(axis=0))
+    biased = replace(sim.trial, acc=sim.trial.acc | {"shank": a + 0.3 * up})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        off = calibrate_leg(biased)
+        on = calibrate_leg(biased, options=CalibrationOptions(rest_gravity_correction=True))
+    assert off.rest_gravity_offsets == {}  # the default leaves the signals as recorded
+    assert on.rest_gravity_offsets["shank"] == pytest.approx(0.30, abs=0.005)
+    assert abs(on.rest_gravity_offsets["thigh"]) < 0.005  # noise-free: the others read 9.81
+    again = LegCalibration.from_dict(on.to_dict())
+    assert again.rest_gravity_offsets == pytest.approx(on.rest_gravity_offsets)

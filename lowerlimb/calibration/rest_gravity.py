@@ -9,13 +9,13 @@ real walk, random biases of 0.1 m/s² moved a thigh's length by several centimet
 (``benchmarks/results/acc_bias.md``). The joint fit cannot separate such a bias from the
 centre when it is left free (unidentifiable from walking: the fit's condition number is
 10⁻³ and it finds biases of 3.5 m/s² on the real walk), but every sensor at rest reads the
-same gravity, so the differences of their rest norms are sensor errors. The joint fits
-therefore take each accelerometer's rest offset off along its standing vertical
-(:func:`vertical_offsets_removed`, ``CalibrationOptions.rest_gravity_correction``): a
-common offset of all sensors (local gravity) changes nothing, and what is across the vertical
-stays. On seven-IMU simulated walks with random biases of 0.05–0.2 m/s² it brings the segment
-lengths back to the unbiased walk's within 2 mm; on the real walk it narrows the spread that
-added biases cause (right thigh at 0.2 m/s²: +30 … +97 → +16 … +38 mm).
+same gravity, so the differences of their rest norms are sensor errors.
+:func:`vertical_offsets_removed` takes each accelerometer's rest offset off along its
+standing vertical (``CalibrationOptions.rest_gravity_correction``, off): a common offset of
+all sensors (local gravity) changes nothing, and what lies across the vertical stays. On
+seven-IMU simulated walks with biases it returns the segment lengths to the unbiased walk's;
+on the real walk it trades the thighs −10 / +29 for −23 / +16 mm and the left hip-to-ankle
+distance 23 for 40 mm, so it stays an option.
 """
 
 from __future__ import annotations
@@ -51,8 +51,7 @@ def rest_gravity_notes(offsets: dict[str, float], limit_mps2: float) -> list[str
     return [
         f"the {sensor} accelerometer reads {GRAVITY_MPS2 + off:.2f} m/s² at rest, {off:+.2f} m/s² from "
         f"gravity: a bias or scale error of that size moves the joint centres by centimetres in "
-        f"walking (only its part along the vertical shows at rest, and the joint fits take that part "
-        f"off); calibrate the accelerometer "
+        f"walking (only its part along the vertical shows at rest); calibrate the accelerometer "
         f"(e.g. six still orientations) or check its unit and range setting"
         for sensor, off in offsets.items()
         if abs(off) > limit_mps2
