@@ -469,7 +469,11 @@ def _pelvis_side(new: SphericalJointCalibration, old: SphericalJointCalibration)
     """
     if np.array_equal(new.center_in_parent_sensor, old.center_in_parent_sensor):
         return new  # the aligned fit was not used (search box)
-    return replace(new, solver=f"{old.solver}+aligned(pelvis side)")
+    return replace(
+        new,
+        solver=f"{old.solver}+aligned(pelvis side)",
+        norm_center_in_parent_sensor=np.asarray(old.center_in_parent_sensor, dtype=float),
+    )
 
 
 def _across_axis(

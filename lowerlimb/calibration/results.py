@@ -79,6 +79,11 @@ class SphericalJointCalibration:
         split_half_shift: (6,) half the difference of ``(c_parent, c_child)`` fitted on
             the recording's second and first half (:mod:`~lowerlimb.calibration.split_half`),
             m; NaN when not probed (in the pelvis sensor when the aligned form places the hip).
+        norm_center_in_parent_sensor: (3,) the norm form's parent-frame centre where the
+            aligned form replaced it (the hip in the pelvis sensor), m; ``None`` otherwise.
+            The clock search compares the joint's acceleration norms at the norm form's
+            centres (:func:`~lowerlimb.calibration.clock_sync.estimate_lags`). Not written
+            to calibration.json.
     """
 
     joint: str
@@ -97,6 +102,7 @@ class SphericalJointCalibration:
     impact_excluded_fraction: float = 0.0
     cutoff_shift: FloatArray = field(default_factory=lambda: np.full(6, np.nan))
     split_half_shift: FloatArray = field(default_factory=lambda: np.full(6, np.nan))
+    norm_center_in_parent_sensor: FloatArray | None = None
 
     @property
     def center_std_in_parent_sensor(self) -> FloatArray:
