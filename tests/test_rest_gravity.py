@@ -80,8 +80,12 @@ def test_the_calibration_records_the_offsets_it_removed() -> None:
         warnings.simplefilter("ignore")
         off = calibrate_leg(biased)
         on = calibrate_leg(biased, options=CalibrationOptions(rest_gravity_correction=True))
-    assert off.rest_gravity_offsets == {}  # the default leaves the signals as recorded
+    # both record the offsets; only the option takes them off the signals
+    assert off.rest_gravity_offsets["shank"] == pytest.approx(0.30, abs=0.005)
+    assert not off.rest_gravity_removed and on.rest_gravity_removed
     assert on.rest_gravity_offsets["shank"] == pytest.approx(0.30, abs=0.005)
+    assert not np.allclose(on.hip.center_in_child_sensor, off.hip.center_in_child_sensor, atol=1e-9)
     assert abs(on.rest_gravity_offsets["thigh"]) < 0.005  # noise-free: the others read 9.81
     again = LegCalibration.from_dict(on.to_dict())
     assert again.rest_gravity_offsets == pytest.approx(on.rest_gravity_offsets)
+    assert again.rest_gravity_removed

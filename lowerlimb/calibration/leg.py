@@ -97,8 +97,10 @@ class LegCalibration:
             of it for a trial below ``min_fit_rate_hz`` (:mod:`~lowerlimb.upsample`;
             0: not recorded).
         rest_gravity_offsets: ``{sensor: m/s²}`` each accelerometer's norm at the standing
-            start minus 9.81, taken off along its standing vertical before the fits
-            (:mod:`~lowerlimb.calibration.rest_gravity`; empty: not applied).
+            start minus 9.81 (:mod:`~lowerlimb.calibration.rest_gravity`; empty: no standing
+            start).
+        rest_gravity_removed: whether those offsets were taken off along each sensor's
+            standing vertical before the fits (``CalibrationOptions.rest_gravity_correction``).
     """
 
     side: str
@@ -116,6 +118,7 @@ class LegCalibration:
     clock_offsets: dict[str, Any] = field(default_factory=dict)
     fit_rate_hz: float = 0.0
     rest_gravity_offsets: dict[str, float] = field(default_factory=dict)
+    rest_gravity_removed: bool = False
 
     @property
     def joints(self) -> dict[str, SphericalJointCalibration | HingeJointCalibration]:
@@ -146,6 +149,7 @@ class LegCalibration:
             "clock_offsets": dict(self.clock_offsets),
             "fit_rate_hz": float(self.fit_rate_hz),
             "rest_gravity_offset_mps2": {k: float(v) for k, v in self.rest_gravity_offsets.items()},
+            "rest_gravity_removed": bool(self.rest_gravity_removed),
             "warnings": self.warnings,
         }
 
@@ -179,6 +183,7 @@ class LegCalibration:
                 clock_offsets=dict(d.get("clock_offsets", {})),
                 fit_rate_hz=float(d.get("fit_rate_hz", 0.0)),
                 rest_gravity_offsets={k: float(v) for k, v in d.get("rest_gravity_offset_mps2", {}).items()},
+                rest_gravity_removed=bool(d.get("rest_gravity_removed", False)),
             )
         except KeyError as e:
             raise InputError(f"calibration document lacks the key {e.args[0]!r}") from None
@@ -294,8 +299,9 @@ def calibrate_leg(
     still = still or detect_still_period(list(gyr.values()), list(acc.values()), rate)
     offsets: dict[str, float] = {}
     n_rest = still.samples(opts.still_min_s)
-    if opts.rest_gravity_correction and n_rest:
-        acc, offsets = vertical_offsets_removed(acc, slice(0, n_rest))
+    if n_rest:
+        removed, offsets = vertical_offsets_removed(acc, slice(0, n_rest))
+        acc = removed if opts.rest_gravity_correction else acc
     k = upsample_factor(rate, opts.min_fit_rate_hz)
     if k > 1:
         acc, gyr, rate, still = upsampled(acc, k), upsampled(gyr, k), rate * k, upsampled_still(still, k)
@@ -372,6 +378,7 @@ def calibrate_leg(
         fit_rate_hz=rate,
         priors=priors,
         rest_gravity_offsets=offsets,
+        rest_gravity_removed=bool(offsets) and opts.rest_gravity_correction,
     )
 
 
