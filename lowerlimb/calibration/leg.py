@@ -45,7 +45,7 @@ from lowerlimb.calibration.joint_center import fit_spherical
 from lowerlimb.calibration.joint_cutoff import joint_cutoffs_hz
 from lowerlimb.calibration.knee_line import axis_mismatch_message, standing_axis_mismatch, with_knee_line
 from lowerlimb.calibration.options import CalibrationOptions, check_method
-from lowerlimb.calibration.rest_gravity import vertical_offsets_removed
+from lowerlimb.calibration.rest_gravity import rest_gravity_offsets, vertical_offsets_removed
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.calibration.segment_prior import CenterPrior, center_prior, segment_up
 from lowerlimb.calibration.split_half import half_masks, split_half_message, split_half_shift
@@ -299,9 +299,10 @@ def calibrate_leg(
     still = still or detect_still_period(list(gyr.values()), list(acc.values()), rate)
     offsets: dict[str, float] = {}
     n_rest = still.samples(opts.still_min_s)
-    if n_rest:
-        removed, offsets = vertical_offsets_removed(acc, slice(0, n_rest))
-        acc = removed if opts.rest_gravity_correction else acc
+    if n_rest and opts.rest_gravity_correction:
+        acc, offsets = vertical_offsets_removed(acc, slice(0, n_rest))
+    elif n_rest:
+        offsets = rest_gravity_offsets(acc, slice(0, n_rest))  # recorded, signals untouched
     k = upsample_factor(rate, opts.min_fit_rate_hz)
     if k > 1:
         acc, gyr, rate, still = upsampled(acc, k), upsampled(gyr, k), rate * k, upsampled_still(still, k)
