@@ -66,7 +66,8 @@ class ShankFrame:
 
 def standing_axes(vicon: dict[str, Any], side: str, frame: ShankFrame, ajc: np.ndarray) -> np.ndarray:
     """(3, 3) rows forward (heel→toe, horizontal), lateral (towards ANK, horizontal), up."""
-    pt = {k: frame.local(np.asarray(vicon[f"{side}{k}"], float))[STAND].mean(axis=0) for k in ("HEE", "TOE", "ANK")}
+    names = ("HEE", "TOE", "ANK")
+    pt = {k: frame.local(np.asarray(vicon[f"{side}{k}"], float))[STAND].mean(axis=0) for k in names}
     up = np.array([0.0, 0.0, 1.0])
     fwd = pt["TOE"] - pt["HEE"]
     fwd -= (fwd @ up) * up
@@ -160,7 +161,8 @@ def markdown(res: dict[str, Any]) -> str:
         s = ", ".join(f"{v:.0f}" for v in r["formal_sd_mm"])
         L.append(
             f"| {r['side']} | {r['subset']} | {r['markers']} | {r['frames']} | {d} | {s} | "
-            f"{r['fit_rms_mm']:.1f} | {r['below_ank_marker_mm']:.0f} | {r['shank_length_minus_pig_mm']:+.0f} |"
+            f"{r['fit_rms_mm']:.1f} | {r['below_ank_marker_mm']:.0f} | "
+            f"{r['shank_length_minus_pig_mm']:+.0f} |"
         )
     L += [
         "",
@@ -180,7 +182,8 @@ def markdown(res: dict[str, Any]) -> str:
             for f in ("default", "aligned")
         )
         L.append(
-            f"| {side} | {sp['min_mm']:+.0f} / {sp['median_mm']:+.0f} / {sp['max_mm']:+.0f} | {vs_pig} | {vs_fun} |"
+            f"| {side} | {sp['min_mm']:+.0f} / {sp['median_mm']:+.0f} / {sp['max_mm']:+.0f} "
+            f"| {vs_pig} | {vs_fun} |"
         )
     L += [
         "",
