@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from lowerlimb.calibration import calibrate_leg
-from lowerlimb.calibration.cutoff_probe import probe_options
+from lowerlimb.calibration.cutoff_probe import cutoff_shift_message, probe_options
 from lowerlimb.calibration.leg import LegCalibration
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.errors import InputError
@@ -84,3 +84,52 @@ def test_a_long_trial_is_probed_on_every_kth_sample(walk) -> None:
     assert d.acc_parent.shape == (4, 3) and d.gyr_noise_parent == 0.5
     with pytest.raises(InputError, match="cutoff_probe_max_samples"):
         CalibrationOptions(cutoff_probe_max_samples=10)
+
+
+def test_the_aligned_sides_of_the_hip_are_not_recorded(walk) -> None:
+    """The probe refits the norm form: the hip in the pelvis sensor that the aligned form
+    places by default gets no shift (it was the norm form's, 47–110 mm on simulated walks
+    whose aligned centre is 4–10 mm off); with the whole hip aligned, neither side does."""
+    trial, _ = walk
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        default = calibrate_leg(trial)
+        whole = calibrate_leg(trial, options=CalibrationOptions(centre_form="aligned"))
+    hip = default.hip
+    assert np.all(np.isnan(hip.cutoff_shift[:3])) and np.all(np.isfinite(hip.cutoff_shift[3:]))
+    assert np.all(np.isnan(hip.split_half_shift[:3])) and np.all(np.isfinite(hip.split_half_shift[3:]))
+    d = default.to_dict()["joints"]["hip"]
+    assert (
+        "center_cutoff_shift_in_parent_sensor" not in d and len(d["center_cutoff_shift_in_child_sensor"]) == 3
+    )
+    back = LegCalibration.from_dict(default.to_dict()).hip
+    assert np.allclose(back.cutoff_shift, hip.cutoff_shift, equal_nan=True)
+    assert np.all(np.isnan(whole.hip.cutoff_shift)) and np.all(np.isnan(whole.hip.split_half_shift))
+    assert np.all(np.isfinite(whole.ankle.cutoff_shift))
+
+
+def test_a_centre_the_filter_decides_is_warned_about(walk) -> None:
+    trial, _ = walk
+    quiet = cutoff_shift_message(_hip(walk), 1.0)
+    assert quiet is None
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        cal = calibrate_leg(trial, options=CalibrationOptions(cutoff_shift_warn_m=1e-4))
+    said = [str(w.message) for w in caught]
+    for joint in ("hip: the centre in the thigh", "ankle: the centre in the"):
+        assert any(m.startswith(joint) and "mm when the low-pass cut-offs" in m for m in said), said
+    assert any("widened by half" in w for w in cal.ankle.warnings)
+    largest = cal.ankle.largest_shift(cal.ankle.cutoff_shift)
+    assert largest is not None and largest[1] == pytest.approx(
+        max(np.linalg.norm(cal.ankle.cutoff_shift[:3]), np.linalg.norm(cal.ankle.cutoff_shift[3:]))
+    )
+    assert cal.hip.largest_shift(np.full(6, np.nan)) is None
+    with pytest.raises(InputError, match="cutoff_shift_warn_m"):
+        CalibrationOptions(cutoff_shift_warn_m=0.0)
+
+
+def _hip(walk):
+    trial, _ = walk
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return calibrate_leg(trial).hip

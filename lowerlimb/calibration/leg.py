@@ -37,7 +37,7 @@ from lowerlimb.calibration._prepare import (
     prepare_signals,
 )
 from lowerlimb.calibration._solve import subsample_step
-from lowerlimb.calibration.cutoff_probe import with_cutoff_shifts
+from lowerlimb.calibration.cutoff_probe import cutoff_shift_message, with_cutoff_shifts
 from lowerlimb.calibration.excitation import issue_warnings
 from lowerlimb.calibration.hinge_joint import fit_hinge_joint
 from lowerlimb.calibration.impact_window import impact_cutoff_limit_hz, impact_keep_mask
@@ -587,7 +587,32 @@ def _probe_cutoffs(
 
     pairs = {k: (v[0], v[1]) for k, v in setup.items()}
     out = with_cutoff_shifts({"hip": hip, "ankle": ankle}, pairs, acc, gyr, sig, options, refit, limits)
-    return out["hip"], out["ankle"]
+    probed = []
+    for joint in (out["hip"], out["ankle"]):
+        joint = replace(joint, cutoff_shift=_norm_sides_only(joint.cutoff_shift, joint.joint, options))
+        message = cutoff_shift_message(joint, options.cutoff_shift_warn_m)
+        if message is not None:
+            issue_warnings([message], stacklevel=4)
+            joint = replace(joint, warnings=[*joint.warnings, message])
+        probed.append(joint)
+    return probed[0], probed[1]
+
+
+def _norm_sides_only(shift: FloatArray, joint: str, options: CalibrationOptions) -> FloatArray:
+    """A probe's (6,) shift of the norm form, NaN on a side of the hip that the aligned form places.
+
+    The probes refit the norm form; the aligned form places the hip in the pelvis sensor
+    (``hip_in_pelvis_form``) and, with ``centre_form="aligned"``, both sides (:func:`_aligned`).
+    """
+    out = np.array(shift, dtype=float)
+    if joint != "hip":
+        return out
+    whole = options.centre_form == "aligned" and "hip" in options.aligned_joints
+    if whole or options.hip_in_pelvis_form == "aligned":
+        out[:3] = np.nan
+    if whole:
+        out[3:] = np.nan
+    return out
 
 
 def _probe_halves(
@@ -625,9 +650,7 @@ def _probe_halves(
         )
 
     shift = split_half_shift(refit, half_masks(data.acc_parent.shape[0], keep, n_still))
-    if joint.joint == "hip" and options.hip_in_pelvis_form == "aligned":
-        shift[:3] = np.nan  # the norm form's hip in the pelvis sensor is not the one reported
-    out = replace(joint, split_half_shift=shift)
+    out = replace(joint, split_half_shift=_norm_sides_only(shift, joint.joint, options))
     message = split_half_message(out, options.split_half_warn_m)
     if message is None:
         return out

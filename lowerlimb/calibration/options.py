@@ -236,6 +236,8 @@ class CalibrationOptions:
             record half the difference (:mod:`~lowerlimb.calibration.split_half`; a
             record and a warning, no estimate changes). Refits are thinned to at most
             ``cutoff_probe_max_samples / 2`` samples in all.
+        cutoff_shift_warn_m: warn when a centre moves by more than this (in either sensor
+            frame) when the cut-off probe widens the cut-offs, m.
         split_half_warn_m: warn when a centre moves by more than this between the halves
             (half the difference, in either sensor frame), m.
         cutoff_probe_max_samples: the probe refits a longer trial on every k-th sample, so
@@ -348,6 +350,7 @@ class CalibrationOptions:
     cutoff_probe: bool = True
     cutoff_probe_factor: float = 1.5
     cutoff_probe_max_samples: int = 6000
+    cutoff_shift_warn_m: float = 0.03
     split_half_probe: bool = True
     split_half_warn_m: float = 0.03
     min_fit_rate_hz: float | None = 100.0
@@ -411,8 +414,9 @@ class CalibrationOptions:
             raise InputError(f"fit_max_samples must be >= 100 or None, got {self.fit_max_samples}")
         if self.cutoff_probe_max_samples < 100:
             raise InputError(f"cutoff_probe_max_samples must be >= 100, got {self.cutoff_probe_max_samples}")
-        if not 0.0 < self.split_half_warn_m < math.inf:
-            raise InputError(f"split_half_warn_m must be a length > 0 in m, got {self.split_half_warn_m}")
+        for name in ("split_half_warn_m", "cutoff_shift_warn_m"):
+            if not 0.0 < getattr(self, name) < math.inf:
+                raise InputError(f"{name} must be a length > 0 in m, got {getattr(self, name)}")
         if not self.cutoff_probe_factor > 1.0:
             raise InputError(f"cutoff_probe_factor must be > 1, got {self.cutoff_probe_factor}")
         if not 0.0 < self.clock_min_explained <= 1.0:

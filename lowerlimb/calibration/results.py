@@ -35,11 +35,10 @@ def _num(v: float) -> float | None:
     return float(v) if np.isfinite(v) else None
 
 
-def _cutoff_shift(d: dict[str, Any], key_prefix: str) -> FloatArray:
-    keys = [key_prefix + f"center_cutoff_shift_in_{f}_sensor" for f in ("parent", "child")]
-    if not all(k in d for k in keys):
-        return np.full(6, np.nan)
-    return np.concatenate([_vec(d[k]) for k in keys])
+def _shift(d: dict[str, Any], key_prefix: str, kind: str) -> FloatArray:
+    """(6,) a recorded ``center_{kind}_shift_in_*_sensor`` pair, NaN for a frame not recorded."""
+    keys = (f"{key_prefix}center_{kind}_shift_in_{f}_sensor" for f in ("parent", "child"))
+    return np.concatenate([_vec(d.get(k, [np.nan] * 3)) for k in keys])
 
 
 def _opt_list(v: FloatArray) -> list[float | None]:
@@ -114,6 +113,22 @@ class SphericalJointCalibration:
         """(3,) standard deviation of the child-frame centre, m (NaN when unknown)."""
         return self.excitation.std[3:6] if self.excitation is not None else np.full(3, np.nan)
 
+    def largest_shift(self, shift: FloatArray) -> tuple[str, float] | None:
+        """The sensor in whose frame a (6,) ``(c_parent, c_child)`` shift is largest, and its length, m.
+
+        A frame whose shift is NaN (not probed) is left out; ``None`` when neither was probed.
+        """
+        s = np.asarray(shift, dtype=float)
+        moved = {
+            name: float(np.linalg.norm(part))
+            for name, part in ((self.parent_sensor, s[:3]), (self.child_sensor, s[3:6]))
+            if np.all(np.isfinite(part))
+        }
+        if not moved:
+            return None
+        worst = max(moved, key=lambda k: moved[k])
+        return worst, moved[worst]
+
     def to_dict(self) -> dict[str, Any]:
         """The calibration.json entry of a spherical joint (required keys, then extras)."""
         d: dict[str, Any] = {
@@ -144,12 +159,10 @@ class SphericalJointCalibration:
             warnings=list(self.warnings),
             impact_excluded_fraction=float(self.impact_excluded_fraction),
         )
-        if np.all(np.isfinite(self.cutoff_shift)):
-            d["center_cutoff_shift_in_parent_sensor"] = _list(self.cutoff_shift[:3])
-            d["center_cutoff_shift_in_child_sensor"] = _list(self.cutoff_shift[3:6])
-        for frame, part in (("parent", self.split_half_shift[:3]), ("child", self.split_half_shift[3:6])):
-            if np.all(np.isfinite(part)):
-                d[f"center_split_half_shift_in_{frame}_sensor"] = _list(part)
+        for key, shift in (("cutoff", self.cutoff_shift), ("split_half", self.split_half_shift)):
+            for frame, part in (("parent", shift[:3]), ("child", shift[3:6])):
+                if np.all(np.isfinite(part)):
+                    d[f"center_{key}_shift_in_{frame}_sensor"] = _list(part)
         return d
 
     @classmethod
@@ -173,13 +186,8 @@ class SphericalJointCalibration:
             solve_time_s=float(d.get(key_prefix + "solve_time_s", d.get("solve_time_s", 0.0))),
             warnings=list(d.get(key_prefix + "warnings", [])),
             impact_excluded_fraction=float(d.get(key_prefix + "impact_excluded_fraction", 0.0)),
-            cutoff_shift=_cutoff_shift(d, key_prefix),
-            split_half_shift=np.concatenate(
-                [
-                    _vec(d.get(f"{key_prefix}center_split_half_shift_in_{f}_sensor", [np.nan] * 3))
-                    for f in ("parent", "child")
-                ]
-            ),
+            cutoff_shift=_shift(d, key_prefix, "cutoff"),
+            split_half_shift=_shift(d, key_prefix, "split_half"),
         )
 
 

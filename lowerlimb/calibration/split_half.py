@@ -76,19 +76,12 @@ def split_half_message(joint: SphericalJointCalibration, limit_m: float) -> str 
 
     A frame whose shift is NaN (not probed) is left out.
     """
-    s = joint.split_half_shift
-    moved = {
-        name: float(np.linalg.norm(part))
-        for name, part in ((joint.parent_sensor, s[:3]), (joint.child_sensor, s[3:]))
-        if np.all(np.isfinite(part))
-    }
-    if not moved:
+    largest = joint.largest_shift(joint.split_half_shift)
+    if largest is None or largest[1] <= limit_m:
         return None
-    worst = max(moved, key=lambda k: moved[k])
-    if moved[worst] <= limit_m:
-        return None
+    worst, moved = largest
     return (
-        f"{joint.joint}: the centre in the {worst} sensor frame moves by ±{1000 * moved[worst]:.0f} mm "
+        f"{joint.joint}: the centre in the {worst} sensor frame moves by ±{1000 * moved:.0f} mm "
         f"between the recording's first and second half; the walk is too short to pin it, or the "
         f"sensor moved on the segment: record a longer trial (or check the strap)"
     )
