@@ -423,7 +423,10 @@ def _checked_reference(options: CalibrateOptions, files: frozenset[str], time_s:
 
 
 def residual_lines(calibration: dict[str, Any]) -> list[str]:
-    """One line per joint with its RMS residuals and their units (m/s² spherical, rad/s hinge axis)."""
+    """Console lines: each joint's RMS residuals with units, then the segment lengths when recorded.
+
+    Units: m/s² for a spherical joint's residual, rad/s for the hinge axis's.
+    """
     lines = []
     for name, joint in calibration["joints"].items():
         unit = joint.get("rms_residual_unit", "m/s^2").replace("^2", "²")
@@ -431,6 +434,12 @@ def residual_lines(calibration: dict[str, Any]) -> list[str]:
         if "rms_residual_axis" in joint:
             text += f" (centre), axis {_fmt(joint['rms_residual_axis'])} rad/s"
         lines.append(text)
+    lengths = calibration.get("segment_lengths_m")
+    if isinstance(lengths, dict) and {"thigh", "shank"} <= lengths.keys():
+        lines.append(
+            f"thigh {1000 * float(lengths['thigh']):.0f} mm, shank {1000 * float(lengths['shank']):.0f} mm "
+            f"(hip and ankle centre to the knee axis)"
+        )
     return lines
 
 

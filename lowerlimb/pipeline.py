@@ -36,7 +36,7 @@ from .errors import InputError
 from .io.trial import ImuTrial
 from .methods import ORIENTATION_FILTERS
 from .model.calibrated import calibrated_geometry, chain_positions
-from .model.fallback import with_plausible_lengths
+from .model.fallback import segment_lengths, with_plausible_lengths
 from .model.leg_model import LegModel
 from .orientation import estimate_orientation
 from .orientation.magnetic import check_magnetic_field
@@ -142,6 +142,8 @@ class TrialResult:
             if s != "pelvis"
         }
         d["sensor_placements"] = self.model.calibration_dict()["sensors"]
+        thigh, shank = segment_lengths(self.calibration)
+        d["segment_lengths_m"] = {"thigh": float(thigh), "shank": float(shank)}
         d["timings_s"] = dict(self.timings_s)
         return d
 

@@ -235,3 +235,30 @@ def test_a_walk_cut_mid_stride_keeps_a_usable_magnetometer():
     with w.catch_warnings():
         w.simplefilter("ignore")
         assert process_trial(cut).used_mag
+
+
+def test_segment_lengths_are_recorded_shown_and_near_the_truth(calibrated):
+    """calibration.json's thigh and shank (hip / ankle centre to the knee axis) are those of its
+    joints, within 15 mm of the simulator's, and the report shows them."""
+    from types import SimpleNamespace
+
+    from lowerlimb.calibration import LegCalibration
+    from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
+    from lowerlimb.model.fallback import segment_lengths
+    from lowerlimb.outputs import residual_lines
+
+    sim, out = calibrated
+    cal = json.loads((out / "calibration.json").read_text())
+    lengths = cal["segment_lengths_m"]
+    assert np.allclose([lengths["thigh"], lengths["shank"]], segment_lengths(LegCalibration.from_dict(cal)))
+    joints = sim.truth["joints"]
+    truth = SimpleNamespace(
+        hip=SphericalJointCalibration.from_dict(joints["hip"], "hip"),
+        knee=HingeJointCalibration.from_dict(joints["knee"]),
+        ankle=SphericalJointCalibration.from_dict(joints["ankle"], "ankle"),
+    )
+    true_lengths = segment_lengths(truth)  # type: ignore[arg-type]
+    assert abs(lengths["thigh"] - true_lengths[0]) < 0.015 and abs(lengths["shank"] - true_lengths[1]) < 0.015
+    thigh_mm = f"{1000 * lengths['thigh']:.0f} mm"
+    assert any(line.startswith(f"thigh {thigh_mm}, shank") for line in residual_lines(cal))
+    assert f"Thigh {1000 * lengths['thigh']:.3g} mm" in (out / "report.html").read_text()

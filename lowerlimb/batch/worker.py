@@ -29,6 +29,7 @@ from lowerlimb.io.atomic import default_dir_mode
 from lowerlimb.io.bilateral_trial import BilateralTrial, read_header, trial_layout
 from lowerlimb.io.bounds import INPUT_BOUNDS
 from lowerlimb.io.trial import ImuTrial
+from lowerlimb.model.fallback import segment_lengths
 from lowerlimb.outputs import read_calibration, write_outputs
 from lowerlimb.outputs_bilateral import write_bilateral_outputs
 from lowerlimb.pipeline import TrialResult, process_trial
@@ -172,17 +173,18 @@ def key_results(result: TrialResult) -> dict[str, float]:
     """``batch.csv``'s key results of a processed trial.
 
     Returns:
-        ``duration_s``; ``thigh_length_mm`` (hip to knee centre) and ``shank_length_mm``
-        (knee to ankle centre) of the calibrated leg; and ``<angle>_range_deg``, the
-        range (max − min) of each of the 9 ISB angles over the trial, deg; and
+        ``duration_s``; ``thigh_length_mm`` and ``shank_length_mm`` of the calibrated leg
+        (hip and ankle centre to the knee axis line, calibration.json's ``segment_lengths_m``);
+        ``<angle>_range_deg``, the range (max − min) of each of the 9 ISB angles over the
+        trial, deg; and
         ``split_half_max_mm``, the largest split-half shift of the hip and ankle centres
         (:mod:`lowerlimb.calibration.split_half`; NaN when not probed), mm.
     """
-    origins = result.model.geometry.joint_origins
+    thigh, shank = segment_lengths(result.calibration)
     out = {
         "duration_s": round(float(result.trial.duration_s), 3),
-        "thigh_length_mm": round(1000.0 * float(np.linalg.norm(origins["knee"][:3, 3])), 2),
-        "shank_length_mm": round(1000.0 * float(np.linalg.norm(origins["ankle"][:3, 3])), 2),
+        "thigh_length_mm": round(1000.0 * float(thigh), 2),
+        "shank_length_mm": round(1000.0 * float(shank), 2),
         "split_half_max_mm": _split_half_max_mm(result),
     }
     deg = np.rad2deg(result.angles_rad)

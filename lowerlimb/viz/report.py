@@ -174,6 +174,7 @@ def render_report(
         f"<iframe class='scene' id='scene' title='3-D leg' srcdoc=\"{_srcdoc(scene_html)}\"></iframe>",
         "<h2>Calibration</h2>",
         _joint_table(calibration),
+        _lengths_note(calibration),
         _knee_axis_table(calibration),
         _clock_note(calibration),
         "<h2>Joint angles</h2>",
@@ -257,6 +258,18 @@ def _joint_table(calibration: Mapping[str, Any]) -> str:
         "<th>RMS residual</th><th>condition number</th></tr></thead><tbody>"
         + "".join(rows)
         + "</tbody></table>"
+    )
+
+
+def _lengths_note(calibration: Mapping[str, Any]) -> str:
+    """Thigh and shank length (calibration.json ``segment_lengths_m``; empty when absent)."""
+    lengths = calibration.get("segment_lengths_m")
+    if not isinstance(lengths, Mapping) or not {"thigh", "shank"} <= set(lengths):
+        return ""
+    return (
+        f"<p class='note' id='segment-lengths'>Thigh {_num(1000 * float(lengths['thigh']))} mm "
+        f"(hip centre to the knee axis), shank {_num(1000 * float(lengths['shank']))} mm "
+        "(ankle centre to the knee axis).</p>"
     )
 
 
