@@ -163,11 +163,7 @@ def markdown(res: dict[str, Any]) -> str:
         "| side | thigh length − PiG over all fits: min / median / max "
         "| IMU thigh − PiG (`bilateral_gait.json`) |",
     ]
-    L.append("|---|---|---|")
-    for side, sp in res["spread"].items():
-        imu = res.get("imu_thigh_err_mm", {}).get(side)
-        imu_s = "–" if imu is None else f"{imu:+.0f}"
-        L.append(f"| {side} | {sp['min_mm']:+.0f} / {sp['median_mm']:+.0f} / {sp['max_mm']:+.0f} | {imu_s} |")
+    L += spread_rows(res)
     L += [
         "",
         "The fits' formal SDs are a few mm, but the same walk gives centres tens of mm apart",
@@ -177,6 +173,17 @@ def markdown(res: dict[str, Any]) -> str:
         "",
     ]
     return "\n".join(L)
+
+
+def spread_rows(res: dict[str, Any]) -> list[str]:
+    """Markdown rows: each side's min / median / max thigh offset beside the IMU's thigh error."""
+    lines = ["|---|---|---|"]
+    for side, sp in res["spread"].items():
+        imu = res.get("imu_thigh_err_mm", {}).get(side)
+        imu_s = "–" if imu is None else f"{imu:+.0f}"
+        spread = f"{sp['min_mm']:+.0f} / {sp['median_mm']:+.0f} / {sp['max_mm']:+.0f}"
+        lines.append(f"| {side} | {spread} | {imu_s} |")
+    return lines
 
 
 def main() -> None:

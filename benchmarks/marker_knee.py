@@ -37,7 +37,7 @@ from scipy.optimize import least_squares
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _realwalk import STAND, load_vicon  # noqa: E402
 from _results import real_data_main  # noqa: E402
-from marker_hip import _kabsch, subsets  # noqa: E402
+from marker_hip import _kabsch, spread_rows, subsets  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SHANK_MARKERS = ("TIB", "ANK")
@@ -147,12 +147,8 @@ def markdown(res: dict[str, Any]) -> str:
         "",
         "| side | thigh length − PiG without the turn: min / median / max "
         "| IMU thigh − PiG (`bilateral_gait.json`) |",
-        "|---|---|---|",
+        *spread_rows(res),
     ]
-    for side, sp in res["spread"].items():
-        imu = res.get("imu_thigh_err_mm", {}).get(side)
-        imu_s = "–" if imu is None else f"{imu:+.0f}"
-        L.append(f"| {side} | {sp['min_mm']:+.0f} / {sp['median_mm']:+.0f} / {sp['max_mm']:+.0f} | {imu_s} |")
     L += [
         "",
         "The fitted lines miss Plug-in Gait's knee centre by centimetres and the fits' RMS is",

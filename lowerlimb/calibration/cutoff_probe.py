@@ -114,10 +114,10 @@ def cutoff_shift_message(joint: SphericalJointCalibration, limit_m: float) -> st
 
     A frame whose shift is NaN (not probed) is left out.
     """
-    largest = joint.largest_shift(joint.cutoff_shift)
-    if largest is None or largest[1] <= limit_m:
+    hit = joint.largest_shift(joint.cutoff_shift, above_m=limit_m)
+    if hit is None:
         return None
-    worst, moved = largest
+    worst, moved = hit
     return (
         f"{joint.joint}: the centre in the {worst} sensor frame moves by {1000 * moved:.0f} mm when the "
         f"low-pass cut-offs are widened by half; the filter decides it more than the data do, so "

@@ -113,10 +113,11 @@ class SphericalJointCalibration:
         """(3,) standard deviation of the child-frame centre, m (NaN when unknown)."""
         return self.excitation.std[3:6] if self.excitation is not None else np.full(3, np.nan)
 
-    def largest_shift(self, shift: FloatArray) -> tuple[str, float] | None:
+    def largest_shift(self, shift: FloatArray, above_m: float = 0.0) -> tuple[str, float] | None:
         """The sensor in whose frame a (6,) ``(c_parent, c_child)`` shift is largest, and its length, m.
 
-        A frame whose shift is NaN (not probed) is left out; ``None`` when neither was probed.
+        A frame whose shift is NaN (not probed) is left out; ``None`` when neither was probed
+        or the largest is not above ``above_m``.
         """
         s = np.asarray(shift, dtype=float)
         moved = {
@@ -127,7 +128,7 @@ class SphericalJointCalibration:
         if not moved:
             return None
         worst = max(moved, key=lambda k: moved[k])
-        return worst, moved[worst]
+        return (worst, moved[worst]) if moved[worst] > above_m else None
 
     def to_dict(self) -> dict[str, Any]:
         """The calibration.json entry of a spherical joint (required keys, then extras)."""

@@ -76,10 +76,10 @@ def split_half_message(joint: SphericalJointCalibration, limit_m: float) -> str 
 
     A frame whose shift is NaN (not probed) is left out.
     """
-    largest = joint.largest_shift(joint.split_half_shift)
-    if largest is None or largest[1] <= limit_m:
+    hit = joint.largest_shift(joint.split_half_shift, above_m=limit_m)
+    if hit is None:
         return None
-    worst, moved = largest
+    worst, moved = hit
     return (
         f"{joint.joint}: the centre in the {worst} sensor frame moves by ±{1000 * moved:.0f} mm "
         f"between the recording's first and second half; the walk is too short to pin it, or the "
