@@ -40,7 +40,19 @@ def two_legs(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     out = folder / "out"
     r = _cli("calibrate", str(csv), "--out", str(out))
     assert r.returncode == 0, r.stderr
+    (folder / "stderr.txt").write_text(r.stderr)
     return csv, out
+
+
+def test_the_console_names_each_leg_and_its_segments(two_legs: tuple[Path, Path]) -> None:
+    _, out = two_legs
+    err = (out.parent / "stderr.txt").read_text().splitlines()
+    cal = json.loads((out / "calibration.json").read_text())
+    start = {side: err.index(f"  {side} leg:") for side in ("left", "right")}
+    assert start["left"] < start["right"] and err[start["left"] + 1].lstrip().startswith("joint calibration")
+    for side in ("left", "right"):
+        thigh = 1000 * cal["legs"][side]["segment_lengths_m"]["thigh"]
+        assert any(line.startswith(f"  {side:<5s} thigh {thigh:.0f} mm, shank") for line in err), err
 
 
 def test_layout_is_recognised_from_the_header():

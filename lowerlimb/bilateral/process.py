@@ -25,6 +25,7 @@ legs share:
 
 from __future__ import annotations
 
+import sys
 import time
 import warnings
 from dataclasses import dataclass, field, replace
@@ -270,9 +271,14 @@ def _check_pair_sides(
 
 
 def _process_leg(
-    trial: BilateralTrial, side: str, **kwargs: Any
+    trial: BilateralTrial, side: str, note: str = "", **kwargs: Any
 ) -> tuple[TrialResult, list[warnings.WarningMessage]]:
-    """One leg through the single-leg pipeline, with the warnings it raised (to re-issue per side)."""
+    """One leg through the single-leg pipeline, with the warnings it raised (to re-issue per side).
+
+    With ``progress``, its stage lines follow a line naming the leg (and ``note``).
+    """
+    if kwargs.get("progress"):
+        print(f"  {side} leg{note}:", file=sys.stderr)
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -406,7 +412,8 @@ def process_bilateral_trial(
         trial, "right", use_mag=mag and legs["left"].used_mag, **kwargs
     )
     if legs["left"].used_mag and not legs["right"].used_mag:  # the right field was rejected
-        legs["left"], caught["left"] = _process_leg(trial, "left", use_mag=False, **kwargs)
+        again = " again, without the magnetometer (the right leg's field was disturbed)"
+        legs["left"], caught["left"] = _process_leg(trial, "left", again, use_mag=False, **kwargs)
     # the angles are judged once the legs share their pelvis (below)
     caught = {s: [w for w in c if w.category is not ImplausibleAnglesWarning] for s, c in caught.items()}
     for message, category in _leg_warnings(caught):
