@@ -29,6 +29,7 @@ from .io.bilateral_tables import write_bilateral_tables
 from .io.bilateral_trial import BilateralTrial
 from .io.bounds import INPUT_BOUNDS
 from .io.result_files import OUTPUT_FILES, check_outputs
+from .model.fallback import segment_lengths
 from .outputs import (
     CalibrateOptions,
     _print_warnings,
@@ -147,6 +148,14 @@ def _summary_rows(result: BilateralResult) -> str:
         ("right hip to the right of the left", f"{h.lateral_m * 1000:.0f} mm"),
         ("hips plausible", "yes" if h.plausible else f"no: {h.reason}"),
     ]
+    for side in SIDES:
+        thigh, shank = segment_lengths(result.legs[side].calibration)
+        rows.append(
+            (
+                f"{side} thigh, shank",
+                f"{thigh * 1000:.0f} mm, {shank * 1000:.0f} mm (hip / ankle centre to knee axis)",
+            )
+        )
     g = result.gait.to_dict()
     if result.gait.parameters is not None:
         if g.get("cadence_steps_per_min") is not None:

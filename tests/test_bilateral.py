@@ -53,6 +53,7 @@ def test_the_console_names_each_leg_and_its_segments(two_legs: tuple[Path, Path]
     for side in ("left", "right"):
         thigh = 1000 * cal["legs"][side]["segment_lengths_m"]["thigh"]
         assert any(line.startswith(f"  {side:<5s} thigh {thigh:.0f} mm, shank") for line in err), err
+        assert f"<th>{side} thigh, shank</th><td>{thigh:.0f} mm," in (out / "report.html").read_text()
 
 
 def test_layout_is_recognised_from_the_header():
