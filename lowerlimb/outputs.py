@@ -268,6 +268,8 @@ class CalibrateOptions:
         reference: a reference CSV (``time`` and columns named as ours, deg / m) whose
             agreement with the result goes into ``report.html``.
         outputs: short names (:data:`OUTPUT_FILES`) of the files to write.
+        smooth_orientation: filter each sensor forward and backward in time (offline);
+            ``False`` (``--causal``): forward only, as in real time.
     """
 
     trial: Path
@@ -289,6 +291,7 @@ class CalibrateOptions:
     exports: tuple[str, ...] = ()
     reference: Path | None = None
     outputs: frozenset[str] = frozenset(OUTPUT_FILES)
+    smooth_orientation: bool = True
 
     def calibration_options(self) -> CalibrationOptions:
         """The joint-calibration options these command-line options choose (one and two legs)."""
@@ -374,6 +377,7 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
             progress=True,
             calibration_options=options.calibration_options(),
             side_check=options.side_check,
+            smooth_orientation=options.smooth_orientation,
         )
     _print_warnings(caught)
     agreement = None
@@ -503,6 +507,7 @@ def build_provenance(options: CalibrateOptions) -> dict[str, Any]:
             "clock_sync": options.clock_sync,
             "centre_form": options.centre_form,
             "hip_in_pelvis_form": options.hip_in_pelvis_form,
+            "smooth_orientation": options.smooth_orientation,
         },
         "calibration_reused_from": None if options.calibration is None else str(options.calibration),
     }

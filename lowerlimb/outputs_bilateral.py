@@ -268,6 +268,7 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
             progress=True,
             calibration_options=options.calibration_options(),
             side_check=options.side_check,
+            smooth_orientation=options.smooth_orientation,
         )
     _print_warnings(caught)
     write_bilateral_result(

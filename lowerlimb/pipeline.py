@@ -87,6 +87,10 @@ class TrialResult:
         filter_name: the orientation filter used.
         calibration_reused: the joint calibration came from an earlier trial.
         magnetometer_note: why the magnetometer was not fused, or ``""``.
+        quat_smoothed_wxyz: ``{sensor: (N, 4)}`` the same filters run forward and backward
+            (inclination of both passes, heading of the forward one;
+            :func:`~lowerlimb.orientation.estimate_orientation`'s ``smooth``), or ``None``
+            (``smooth_orientation=False``: forward only).
     """
 
     trial: ImuTrial
@@ -101,6 +105,7 @@ class TrialResult:
     filter_name: str = "mahony"
     calibration_reused: bool = False
     magnetometer_note: str = ""
+    quat_smoothed_wxyz: dict[str, FloatArray] | None = None
 
     @property
     def angles_rad(self) -> FloatArray:
@@ -153,14 +158,18 @@ class Orientations:
     """Stage 2's result: the filter orientations and how the magnetometer was used.
 
     Attributes:
-        quat_wxyz: ``{sensor: (N, 4)}`` sensor → earth (ENU), before heading correction.
+        quat_wxyz: ``{sensor: (N, 4)}`` sensor → earth (ENU), before heading correction;
+            the filters run forward in time.
         used_mag: whether the magnetometer was fused.
         magnetometer_note: why it was not fused (disturbed field), or ``""``.
+        smoothed_wxyz: ``{sensor: (N, 4)}`` the forward estimate with the inclination of a
+            forward and a backward pass, or ``None`` (not asked for).
     """
 
     quat_wxyz: dict[str, FloatArray]
     used_mag: bool
     magnetometer_note: str = ""
+    smoothed_wxyz: dict[str, FloatArray] | None = None
 
 
 def _warn_rest_gravity(trial: ImuTrial, still: StillPeriod, options: CalibrationOptions) -> None:
@@ -252,6 +261,7 @@ def estimate_orientations(
     use_mag: bool,
     reference: slice | None,
     gyro_bias: dict[str, FloatArray] | None = None,
+    smooth: bool = True,
 ) -> Orientations:
     """Stage 2: one orientation filter per sensor; the magnetometer only when its field is usable.
 
@@ -260,7 +270,9 @@ def estimate_orientations(
     motion the accelerometer's "up" is off, and a walk cut mid-stride was said to have a
     disturbed field). ``gyro_bias`` (``{sensor: (3,)}`` rad/s), when given, is subtracted
     and the filters estimate none of their own: a trial that ends still but does not start
-    still (the filters find a bias only in a still start).
+    still (the filters find a bias only in a still start). ``smooth`` also gives each
+    sensor's estimate with the inclination of a forward and a backward pass
+    (``Orientations.smoothed_wxyz``).
 
     Warns:
         MagneticDisturbanceWarning: the field looks disturbed; the filters run 6-axis.
@@ -275,18 +287,20 @@ def estimate_orientations(
             stacklevel=3,
         )
         mag = None
-    quats = {
-        s: estimate_orientation(
+    def run(s: str, two_pass: bool) -> FloatArray:
+        return estimate_orientation(
             trial.gyr[s] if gyro_bias is None else trial.gyr[s] - gyro_bias[s],
             trial.acc[s],
             None if mag is None else mag[s],
             rate_hz=trial.rate_hz,
             method=filter_name,
             remove_bias=gyro_bias is None,
+            smooth=two_pass,
         )
-        for s in SENSORS
-    }
-    return Orientations(quats, mag is not None, "" if mag_check is None else mag_check.reason)
+
+    quats = {s: run(s, False) for s in SENSORS}
+    smoothed = {s: run(s, True) for s in SENSORS} if smooth else None
+    return Orientations(quats, mag is not None, "" if mag_check is None else mag_check.reason, smoothed)
 
 
 def build_model(
@@ -362,6 +376,7 @@ def process_trial(
     calibration_options: CalibrationOptions | None = None,
     side_check: bool = True,
     positions: bool = True,
+    smooth_orientation: bool = True,
 ) -> TrialResult:
     """Calibrate a trial and compute its joint angles and positions.
 
@@ -386,6 +401,9 @@ def process_trial(
         positions: compute the forward kinematics of every sample; ``False`` leaves
             ``positions_m`` an empty (0, 6) array, for a caller that recomputes the chain
             (the two-leg pipeline's one-pelvis stage).
+        smooth_orientation: take each sensor's inclination from a forward and a backward
+            pass of its filter (offline; the headings and their joint corrections stay the
+            forward pass's; docs/methods.md); ``False``: forward only, as in real time.
 
     Raises:
         InputError: a calibration of the other leg, swapped sensor columns
@@ -416,7 +434,7 @@ def process_trial(
     from_end = still.bias_end(cal_options.still_min_s, cal_options.still_end_min_s)
     end_bias = calib.gyro_bias if from_end else None
     orientations = estimate_orientations(
-        trial, filter_name, use_mag=use_mag, reference=standing, gyro_bias=end_bias
+        trial, filter_name, use_mag=use_mag, reference=standing, gyro_bias=end_bias, smooth=smooth_orientation
     )
     clock.stop("orientation filters")
 
@@ -439,6 +457,7 @@ def process_trial(
         reference=reference,
         side=trial.side,
         shared_heading=orientations.used_mag,
+        quat_smoothed=orientations.smoothed_wxyz,
     )
     clock.stop("segment frames, angles")
     for message in implausible_angles(motion.angles_rad, gyr["shank"]):
@@ -480,4 +499,5 @@ def process_trial(
         filter_name,
         calibration is not None,
         orientations.magnetometer_note,
+        orientations.smoothed_wxyz,
     )

@@ -345,6 +345,7 @@ def _one_pelvis(
             reference=t.reference_samples(t.still_period()),
             side=t.side,
             shared_heading=r.used_mag,
+            quat_smoothed=r.quat_smoothed_wxyz,
         )
         model, positions, s2j = build_model(cal, motion, height_m=height_m, mass_kg=mass_kg)
         out[side] = replace(r, calibration=cal, motion=motion, model=model, positions_m=positions, s2j=s2j)
@@ -360,6 +361,7 @@ def process_bilateral_trial(
     mass_kg: float = 75.0,
     use_mag: bool = True,
     progress: bool = False,
+    smooth_orientation: bool = True,
     calibration_options: CalibrationOptions | None = None,
     side_check: bool = True,
     hip_params: HipParams | None = None,
@@ -377,6 +379,7 @@ def process_bilateral_trial(
         mass_kg: subject mass (URDF inertias), kg.
         use_mag: fuse the magnetometer when both legs' fields look usable.
         progress: print one line per stage and leg on stderr.
+        smooth_orientation: forward and backward orientation filters (``process_trial``).
         calibration_options: joint-calibration options, both legs.
         side_check: refuse a leg whose calibrated hip lies on the other side of the pelvis sensor.
         hip_params: thresholds of the two-hip check.
@@ -401,6 +404,7 @@ def process_bilateral_trial(
         "height_m": height_m,
         "mass_kg": mass_kg,
         "progress": progress,
+        "smooth_orientation": smooth_orientation,
         "calibration_options": calibration_options,
         "side_check": False,  # two legs: the pair of hips decides (_check_pair_sides)
         "positions": not one_pelvis,  # the one-pelvis stage recomputes them

@@ -104,6 +104,12 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         + " (repeat for several)",
     )
     p.add_argument(
+        "--causal",
+        action="store_true",
+        help="run each orientation filter forward in time only, as in real time (default: forward "
+        "and backward, the inclination from both passes: an offline estimate without the filter's lag)",
+    )
+    p.add_argument(
         "--reference",
         type=Path,
         metavar="REFERENCE.csv",
@@ -144,6 +150,7 @@ def run(args: argparse.Namespace) -> int:
         exports=tuple(args.export),
         reference=args.reference,
         outputs=chosen_outputs(args),
+        smooth_orientation=not args.causal,
     )
     if two_legs:
         from lowerlimb.outputs_bilateral import run_calibrate_bilateral

@@ -16,7 +16,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from lowerlimb.conventions import MAX_GYRO_RAD_S, MIN_MEDIAN_ACC_MPS2, FloatArray
+from lowerlimb.conventions import (
+    MAX_GYRO_RAD_S,
+    MIN_MEDIAN_ACC_MPS2,
+    FloatArray,
+    quat_conjugate,
+    quat_multiply,
+)
 from lowerlimb.errors import InputError, NonFiniteValueError, ShapeError, UnitError
 from lowerlimb.methods import ORIENTATION_FILTERS
 from lowerlimb.orientation.ftecf import FtecfParams, ftecf_filter
@@ -112,6 +118,7 @@ def estimate_orientation(
     params: OrientationParams | None = None,
     remove_bias: bool = True,
     gyro_timing: str = "instantaneous",
+    smooth: bool = False,
 ) -> FloatArray:
     """Orientation of one IMU over a recording, from gyro + accelerometer (+ magnetometer).
 
@@ -140,6 +147,14 @@ def estimate_orientation(
             deliver). The filters rotate by the mean rate of each interval, so
             instantaneous samples are first averaged pairwise (trapezoid
             rule); without it the estimate leads the motion by half a sample.
+        smooth: also run the filter backward in time from the forward run's last
+            orientation and take the inclination from the mean of the two passes, the
+            heading from the forward pass (:func:`two_pass_inclination`): an offline
+            estimate in which the lag of the gravity correction cancels (each sample
+            then depends on the whole recording, not only its past). Inclination error
+            on the BROAD trials 0.91 → 0.84° (Mahony), on simulated walks 0.70 → 0.47°;
+            the two passes' mean heading was worse on BROAD (9-axis 1.76 → 2.25°: real
+            fields are disturbed), so the heading stays the forward pass's.
 
     Returns:
         (N, 4) unit quaternions ``w, x, y, z``, sensor -> earth (ENU), sign
@@ -165,7 +180,80 @@ def estimate_orientation(
         initial = _warm_start(filt, g, a, m, rate, initial, params, RestParams().warm_start_s)
     # Every filter moves its estimate by a small rotation per sample and never
     # flips its sign, so the output is continuous as it is (tested).
-    return filt(g, a, m, rate_hz=rate, initial=initial, params=params)
+    forward = filt(g, a, m, rate_hz=rate, initial=initial, params=params)
+    if not smooth or g.shape[0] < 2:
+        return forward
+    start = replace(initial, quat_wxyz=forward[-1], lowpass_from_gravity=True)
+    backward = _backward(filt, g - initial.gyr_bias_rad_s, a, m, rate, start, params)
+    return two_pass_inclination(forward, backward, forward_weight(g.shape[0], initial.rest_samples, rate))
+
+
+#: After the still start, the forward pass's weight falls from 1 to ½ over this time, s.
+STILL_HANDOVER_S = 1.0
+
+
+def forward_weight(n: int, rest_samples: int, rate_hz: float) -> FloatArray:
+    """(N,) the forward pass's share of each sample's inclination in the two-pass estimate.
+
+    1 over the still start, where the forward pass was just initialised on gravity at rest
+    (the angle reference of every joint is taken there; the backward pass arrives with what
+    the whole recording left it), then down to ½ within :data:`STILL_HANDOVER_S`, and ½ on.
+    """
+    t = (np.arange(n) - rest_samples) / rate_hz
+    return np.asarray(np.clip(1.0 - 0.5 * t / STILL_HANDOVER_S, 0.5, 1.0), dtype=float)
+
+
+def _backward(
+    filt: Callable[..., FloatArray],
+    g: FloatArray,
+    a: FloatArray,
+    m: FloatArray | None,
+    rate: float,
+    start: InitialState,
+    params: Any,
+) -> FloatArray:
+    """(N, 4) the filter run from the last sample to the first, in the original sample order.
+
+    ``g`` holds interval means (sample k: the mean rate over (t_{k-1}, t_k], bias removed);
+    going back from t_k to t_{k-1} turns by ``-g[k]``, so the reversed run's step j takes
+    ``-g[N - j]`` (step 0, the start itself, turns by nothing) and its output j is the
+    orientation at t_{N-1-j}.
+    """
+    rev = np.zeros_like(g)
+    rev[1:] = -g[:0:-1]
+    return filt(
+        np.ascontiguousarray(rev),
+        np.ascontiguousarray(a[::-1]),
+        None if m is None else np.ascontiguousarray(m[::-1]),
+        rate_hz=rate,
+        initial=replace(start, gyr_bias_rad_s=np.zeros(3)),
+        params=params,
+    )[::-1]
+
+
+def two_pass_inclination(
+    forward: ArrayLike, backward: ArrayLike, weight: ArrayLike | float = 0.5
+) -> FloatArray:
+    """(N, 4) the forward estimate with its inclination replaced by the two passes' mean.
+
+    Both are sensor → earth (ENU) quaternions ``w, x, y, z``; ``weight`` ((N,) or scalar, 0–1)
+    is the forward pass's share. The mean is the normalised weighted sum of the two (the
+    backward sign matched to the forward's; at ½ the rotation halfway between them). The
+    forward heading is put back by turning the mean about the earth's vertical by the
+    twist (about +z) of ``forward ⊗ mean⁻¹``, so the result keeps the mean's sensor-frame
+    vertical and the forward's heading. Sign continuous as ``forward``.
+    """
+    f = np.asarray(forward, dtype=float)
+    b = np.asarray(backward, dtype=float)
+    b = np.where((np.sum(f * b, axis=1) < 0.0)[:, None], -b, b)
+    w = np.broadcast_to(np.asarray(weight, dtype=float), (f.shape[0],))[:, None]
+    mean = w * f + (1.0 - w) * b
+    mean /= np.linalg.norm(mean, axis=1, keepdims=True)
+    d = quat_multiply(f, quat_conjugate(mean))  # earth-frame rotation from the mean to forward
+    twist = np.stack([d[:, 0], np.zeros(len(d)), np.zeros(len(d)), d[:, 3]], axis=1)
+    twist /= np.linalg.norm(twist, axis=1, keepdims=True)
+    out = quat_multiply(twist, mean)
+    return np.asarray(np.where((np.sum(out * f, axis=1) < 0.0)[:, None], -out, out), dtype=float)
 
 
 def _warm_start(

@@ -23,7 +23,7 @@ import numpy as np
 from ..conventions import SENSORS, FloatArray
 from .angles import compute_joint_angles
 from .frames import SegmentFrames, mean_quaternion, segment_frames
-from .heading import HeadingCorrection, correct_headings
+from .heading import HeadingCorrection, correct_headings, rotate_about_vertical
 
 if TYPE_CHECKING:
     from ..calibration import LegCalibration
@@ -63,6 +63,7 @@ def track_segments(
     shared_heading: bool = False,
     range_of_motion_prior: bool = True,
     R_sensor_pelvis: FloatArray | None = None,
+    quat_smoothed: dict[str, FloatArray] | None = None,
 ) -> SegmentMotion:
     """Segment orientations and ISB angles from per-sensor orientations.
 
@@ -81,9 +82,21 @@ def track_segments(
         range_of_motion_prior: run the second, prior-regularised heading pass.
         R_sensor_pelvis: (3, 3) pelvis segment frame in the pelvis sensor given from
             outside (two legs: one pelvis for both); default: from this leg's thigh.
+        quat_smoothed: ``{sensor: (N, 4)}`` the same orientations with a smoothed
+            inclination (forward and backward filter passes), or ``None``. The heading
+            corrections are found on ``quat_wxyz`` and applied to these: on the forward
+            pass the standing reference is the one a causal run gives (found on the
+            smoothed ones they moved the real walk's one-leg pelvis frame by 1.3°, and
+            6-axis squats' and sit-to-stands' ankles either way).
     """
     w_common = MAG_HEADING_WEIGHT if shared_heading else 0.0
+
+    def applied(corr: HeadingCorrection) -> dict[str, FloatArray]:
+        base = quat_wxyz if quat_smoothed is None else quat_smoothed
+        return {s: rotate_about_vertical(np.asarray(base[s], float), corr.delta_rad[s]) for s in SENSORS}
+
     qc, corr = correct_headings(quat_wxyz, acc, gyr, calibration, rate_hz, common_heading_weight=w_common)
+    qc = applied(corr)
     frames = segment_frames(
         calibration, {s: mean_quaternion(qc[s][reference]) for s in SENSORS}, side, R_sensor_pelvis
     )
@@ -97,6 +110,7 @@ def track_segments(
             R_sensor_segment=frames.R_sensor_segment,
             common_heading_weight=w_common,
         )
+        qc = applied(corr)
         frames = segment_frames(
             calibration, {s: mean_quaternion(qc[s][reference]) for s in SENSORS}, side, R_sensor_pelvis
         )
