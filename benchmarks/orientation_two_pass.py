@@ -14,7 +14,6 @@ writes ``orientation_two_pass.{md,json}``.
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 from typing import Any
@@ -22,7 +21,7 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _results import write_results  # noqa: E402
+from _results import real_data_main  # noqa: E402
 from orientation import Trial, load_broad, mean_metrics, score, simulated_trials  # noqa: E402
 
 from lowerlimb.orientation import estimate_orientation  # noqa: E402
@@ -112,13 +111,7 @@ def markdown(res: dict[str, Any]) -> str:
 
 
 def main() -> None:
-    root = Path(__file__).resolve().parents[1]
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
-    ap.add_argument("--data", type=Path, default=root.parent / "shared" / "data")
-    ap.add_argument("--out", type=Path, default=root / "benchmarks" / "results")
-    args = ap.parse_args()
-    res = run(args.data)
-    write_results(args.out, "orientation_two_pass", res, markdown(res))
+    real_data_main(__doc__, "orientation_two_pass", run, markdown)
 
 
 if __name__ == "__main__":

@@ -287,6 +287,7 @@ def estimate_orientations(
             stacklevel=3,
         )
         mag = None
+
     def run(s: str, two_pass: bool) -> FloatArray:
         return estimate_orientation(
             trial.gyr[s] if gyro_bias is None else trial.gyr[s] - gyro_bias[s],
