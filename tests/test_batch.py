@@ -259,6 +259,9 @@ def test_centre_form_reaches_every_trial_and_only_then_the_input_hash(tmp_path):
     # the hip in the pelvis: its new default changed results, so it is always in the hash
     assert BatchParams().processing_key()["hip_in_pelvis_form"] == "aligned"
     assert BatchParams(hip_in_pelvis_form="norm").processing_key() != BatchParams().processing_key()
+    # so did the two-pass orientation's
+    assert BatchParams().processing_key()["smooth_orientation"] is True
+    assert BatchParams(smooth_orientation=False).processing_key() != BatchParams().processing_key()
     manifest = _study(tmp_path / "in", 1, corrupt=False)
     out = tmp_path / "out"
     argv = [
@@ -275,6 +278,12 @@ def test_centre_form_reaches_every_trial_and_only_then_the_input_hash(tmp_path):
     assert main([*argv, "--centre-form", "aligned"]) == 0
     (cal,) = out.rglob("calibration.json")
     assert json.loads(cal.read_text())["joints"]["hip"]["solver"].endswith("+aligned")
+    # --causal is another processing: the trial is computed again, not skipped as up to date
+    before = _snapshot(out)
+    assert main([*argv, "--centre-form", "aligned", "--causal"]) == 0
+    assert _snapshot(out)[str(cal)] != before[str(cal)]
+    (row,) = _read_batch_csv(out)
+    assert row["status"] in ("ok", "warning"), row
 
 
 def test_a_new_version_redoes_the_study(tmp_path, monkeypatch):

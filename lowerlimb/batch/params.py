@@ -25,6 +25,9 @@ class BatchParams:
         hip_in_pelvis_form: the form that places the hip centre in the pelvis sensor
             (``calibrate --hip-in-pelvis-form``). Always part of the input hash: studies run
             before it became ``"aligned"`` are re-run once.
+        smooth_orientation: the orientation filters run forward and backward (offline;
+            ``False``: ``calibrate --causal``). Always part of the input hash: studies run
+            before the two passes became the default are re-run once.
         outputs: short names of the files written per trial.
         workers: local worker processes; ``None``: one per core.
         force: redo trials whose outputs are complete and up to date.
@@ -42,6 +45,7 @@ class BatchParams:
     use_mag: bool = True
     centre_form: str = "norm"
     hip_in_pelvis_form: str = "aligned"
+    smooth_orientation: bool = True
     outputs: frozenset[str] = field(default=ALL_OUTPUTS)
     workers: int | None = None
     force: bool = False
@@ -62,4 +66,5 @@ class BatchParams:
         if self.centre_form != "norm":  # the default leaves the studies run before it up to date
             key["centre_form"] = self.centre_form
         key["hip_in_pelvis_form"] = self.hip_in_pelvis_form  # its default changed the results
+        key["smooth_orientation"] = self.smooth_orientation  # so did this one's
         return key

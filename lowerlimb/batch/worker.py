@@ -114,6 +114,7 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
             mass_kg=trial.mass_kg,
             use_mag=p.use_mag,
             calibration_options=_options(p),
+            smooth_orientation=p.smooth_orientation,
         )
         return bilateral_key_results(both), lambda d: _write_two_legs(both, d, p.outputs)
     imu = ImuTrial.from_csv(trial.path, side=trial.side)
@@ -129,6 +130,7 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
         use_mag=p.use_mag,
         calibration=previous,
         calibration_options=_options(p),
+        smooth_orientation=p.smooth_orientation,
     )
     return key_results(result), lambda d: write_outputs(result, d, files=p.outputs)
 

@@ -52,6 +52,9 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         help="the constraint that places the hip centre in the pelvis sensor (as calibrate "
         "--hip-in-pelvis-form)",
     )
+    p.add_argument(
+        "--causal", action="store_true", help="orientation filters forward only (as calibrate --causal)"
+    )
     add_outputs(p)
 
 
@@ -65,6 +68,7 @@ def run(args: argparse.Namespace) -> int:
         use_mag=not args.no_mag,
         centre_form=args.centre_form,
         hip_in_pelvis_form=args.hip_in_pelvis_form,
+        smooth_orientation=not args.causal,
         outputs=chosen_outputs(args),
         workers=args.workers,
         force=args.force,
