@@ -98,3 +98,21 @@ def test_the_backward_pass_helps_on_the_real_broad_trials() -> None:
             total[smooth].append(e.total_deg)
     assert np.mean(incl[True]) < np.mean(incl[False]) - 0.03, incl
     assert np.mean(total[True]) <= np.mean(total[False]), total
+
+
+def test_the_forward_pass_keeps_the_still_start() -> None:
+    """Weight 1 over the still start (where every angle is zeroed), ½ from 1 s after it on;
+    a recording that starts moving hands over from its first sample."""
+    from lowerlimb.orientation.estimate import STILL_HANDOVER_S, forward_weight
+
+    w = forward_weight(500, 150, 100.0)
+    assert np.all(w[:151] == 1.0) and np.all(np.diff(w) <= 0.0)
+    assert np.all(w[150 + int(100 * STILL_HANDOVER_S) :] == 0.5)
+    moving = forward_weight(300, 0, 100.0)
+    assert moving[0] == 1.0 and moving[50] == pytest.approx(0.75) and moving[-1] == 0.5
+    rng = np.random.default_rng(1)
+    for n in (1, 2, 3):  # too short to run backward: the forward estimate, unit and finite
+        q = estimate_orientation(
+            0.1 * rng.normal(size=(n, 3)), np.tile([0.0, 0.0, 9.81], (n, 1)), rate_hz=100.0, smooth=True
+        )
+        assert q.shape == (n, 4) and np.allclose(np.linalg.norm(q, axis=1), 1.0)
