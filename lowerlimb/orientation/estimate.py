@@ -153,7 +153,7 @@ def estimate_orientation(
             estimate in which the lag of the gravity correction cancels (each sample
             then depends on the whole recording, not only its past). Inclination error
             on the BROAD trials 0.91 → 0.84° (Mahony), on simulated walks 0.70 → 0.47°;
-            the two passes' mean heading was worse on BROAD (9-axis 1.76 → 2.25°: real
+            the two passes' mean heading was worse on BROAD (9-axis 1.76 → 2.24°: real
             fields are disturbed), so the heading stays the forward pass's.
 
     Returns:
@@ -251,7 +251,9 @@ def two_pass_inclination(
     mean /= np.linalg.norm(mean, axis=1, keepdims=True)
     d = quat_multiply(f, quat_conjugate(mean))  # earth-frame rotation from the mean to forward
     twist = np.stack([d[:, 0], np.zeros(len(d)), np.zeros(len(d)), d[:, 3]], axis=1)
-    twist /= np.linalg.norm(twist, axis=1, keepdims=True)
+    size = np.linalg.norm(twist, axis=1, keepdims=True)
+    # a half-turn swing has no defined twist (the passes never disagree by that much): none
+    twist = np.where(size > 1e-12, twist / np.maximum(size, 1e-12), np.array([1.0, 0.0, 0.0, 0.0]))
     out = quat_multiply(twist, mean)
     return np.asarray(np.where((np.sum(out * f, axis=1) < 0.0)[:, None], -out, out), dtype=float)
 
