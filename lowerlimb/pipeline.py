@@ -39,6 +39,7 @@ from .model.calibrated import calibrated_geometry, chain_positions
 from .model.fallback import segment_lengths, with_plausible_lengths
 from .model.leg_model import LegModel
 from .orientation import estimate_orientation
+from .orientation.estimate import estimate_orientation_passes
 from .orientation.magnetic import check_magnetic_field
 from .orientation.sign_check import InvertedSignError, chain_sign_check
 from .s2j import S2JModel, constant_s2j_from_calibration
@@ -288,19 +289,19 @@ def estimate_orientations(
         )
         mag = None
 
-    def run(s: str, two_pass: bool) -> FloatArray:
-        return estimate_orientation(
-            trial.gyr[s] if gyro_bias is None else trial.gyr[s] - gyro_bias[s],
-            trial.acc[s],
-            None if mag is None else mag[s],
-            rate_hz=trial.rate_hz,
-            method=filter_name,
-            remove_bias=gyro_bias is None,
-            smooth=two_pass,
-        )
+    def run(s: str) -> tuple[FloatArray, FloatArray]:
+        gyr_s = trial.gyr[s] if gyro_bias is None else trial.gyr[s] - gyro_bias[s]
+        mag_s = None if mag is None else mag[s]
+        kw: dict[str, Any] = {"rate_hz": trial.rate_hz, "method": filter_name}
+        kw["remove_bias"] = gyro_bias is None
+        if smooth:
+            return estimate_orientation_passes(gyr_s, trial.acc[s], mag_s, **kw)
+        q = estimate_orientation(gyr_s, trial.acc[s], mag_s, **kw)
+        return q, q
 
-    quats = {s: run(s, False) for s in SENSORS}
-    smoothed = {s: run(s, True) for s in SENSORS} if smooth else None
+    passes = {s: run(s) for s in SENSORS}
+    quats = {s: p[0] for s, p in passes.items()}
+    smoothed = {s: p[1] for s, p in passes.items()} if smooth else None
     return Orientations(quats, mag is not None, "" if mag_check is None else mag_check.reason, smoothed)
 
 

@@ -116,3 +116,15 @@ def test_the_forward_pass_keeps_the_still_start() -> None:
             0.1 * rng.normal(size=(n, 3)), np.tile([0.0, 0.0, 9.81], (n, 1)), rate_hz=100.0, smooth=True
         )
         assert q.shape == (n, 4) and np.allclose(np.linalg.norm(q, axis=1), 1.0)
+
+
+def test_both_passes_in_one_run_are_the_two_estimates(walk) -> None:
+    from lowerlimb.orientation.estimate import estimate_orientation_passes
+
+    trial, _ = walk
+    args = (trial.gyr["thigh"], trial.acc["thigh"], trial.mag["thigh"])
+    forward, two_pass = estimate_orientation_passes(*args, rate_hz=trial.rate_hz, method="madgwick")
+    assert np.array_equal(forward, estimate_orientation(*args, rate_hz=trial.rate_hz, method="madgwick"))
+    assert np.array_equal(
+        two_pass, estimate_orientation(*args, rate_hz=trial.rate_hz, method="madgwick", smooth=True)
+    )

@@ -168,6 +168,43 @@ def estimate_orientation(
             wrong class, or a start without gravity direction (zero
             accelerometer) or heading (field parallel to gravity).
     """
+    passes = _passes(gyr, acc, mag, rate_hz, method, params, remove_bias, gyro_timing, smooth)
+    return passes[1] if smooth else passes[0]
+
+
+def estimate_orientation_passes(
+    gyr: ArrayLike,
+    acc: ArrayLike,
+    mag: ArrayLike | None = None,
+    *,
+    rate_hz: float,
+    method: str = "mahony",
+    params: OrientationParams | None = None,
+    remove_bias: bool = True,
+    gyro_timing: str = "instantaneous",
+) -> tuple[FloatArray, FloatArray]:
+    """(forward, two-pass): :func:`estimate_orientation` without and with ``smooth``, in one run.
+
+    The two-pass estimate reuses the forward pass (what the pipeline needs: the joints'
+    heading corrections are found on the forward orientations). Arguments, units and
+    errors as :func:`estimate_orientation`; each result is (N, 4), ``w, x, y, z``.
+    """
+    forward, two_pass = _passes(gyr, acc, mag, rate_hz, method, params, remove_bias, gyro_timing, True)
+    return forward, two_pass
+
+
+def _passes(
+    gyr: ArrayLike,
+    acc: ArrayLike,
+    mag: ArrayLike | None,
+    rate_hz: float,
+    method: str,
+    params: OrientationParams | None,
+    remove_bias: bool,
+    gyro_timing: str,
+    smooth: bool,
+) -> tuple[FloatArray, FloatArray]:
+    """(forward, two-pass or the forward again when ``smooth`` is off or N < 2)."""
     g, a, m, rate = _check_inputs(gyr, acc, mag, rate_hz, method, params)
     if gyro_timing not in GYRO_TIMINGS:
         raise InputError(f"unknown gyro_timing {gyro_timing!r}; use one of {list(GYRO_TIMINGS)}")
@@ -182,10 +219,11 @@ def estimate_orientation(
     # flips its sign, so the output is continuous as it is (tested).
     forward = filt(g, a, m, rate_hz=rate, initial=initial, params=params)
     if not smooth or g.shape[0] < 2:
-        return forward
+        return forward, forward
     start = replace(initial, quat_wxyz=forward[-1], lowpass_from_gravity=True)
     backward = _backward(filt, g - initial.gyr_bias_rad_s, a, m, rate, start, params)
-    return two_pass_inclination(forward, backward, forward_weight(g.shape[0], initial.rest_samples, rate))
+    weight = forward_weight(g.shape[0], initial.rest_samples, rate)
+    return forward, two_pass_inclination(forward, backward, weight)
 
 
 #: After the still start, the forward pass's weight falls from 1 to ½ over this time, s.
