@@ -38,7 +38,6 @@ from .methods import ORIENTATION_FILTERS
 from .model.calibrated import calibrated_geometry, chain_positions
 from .model.fallback import segment_lengths, with_plausible_lengths
 from .model.leg_model import LegModel
-from .orientation import estimate_orientation
 from .orientation.estimate import estimate_orientation_passes
 from .orientation.magnetic import check_magnetic_field
 from .orientation.sign_check import InvertedSignError, chain_sign_check
@@ -292,12 +291,15 @@ def estimate_orientations(
     def run(s: str) -> tuple[FloatArray, FloatArray]:
         gyr_s = trial.gyr[s] if gyro_bias is None else trial.gyr[s] - gyro_bias[s]
         mag_s = None if mag is None else mag[s]
-        kw: dict[str, Any] = {"rate_hz": trial.rate_hz, "method": filter_name}
-        kw["remove_bias"] = gyro_bias is None
-        if smooth:
-            return estimate_orientation_passes(gyr_s, trial.acc[s], mag_s, **kw)
-        q = estimate_orientation(gyr_s, trial.acc[s], mag_s, **kw)
-        return q, q
+        return estimate_orientation_passes(
+            gyr_s,
+            trial.acc[s],
+            mag_s,
+            rate_hz=trial.rate_hz,
+            method=filter_name,
+            remove_bias=gyro_bias is None,
+            smooth=smooth,
+        )
 
     passes = {s: run(s) for s in SENSORS}
     quats = {s: p[0] for s, p in passes.items()}

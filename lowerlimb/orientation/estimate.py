@@ -168,8 +168,18 @@ def estimate_orientation(
             wrong class, or a start without gravity direction (zero
             accelerometer) or heading (field parallel to gravity).
     """
-    passes = _passes(gyr, acc, mag, rate_hz, method, params, remove_bias, gyro_timing, smooth)
-    return passes[1] if smooth else passes[0]
+    passes = estimate_orientation_passes(
+        gyr,
+        acc,
+        mag,
+        rate_hz=rate_hz,
+        method=method,
+        params=params,
+        remove_bias=remove_bias,
+        gyro_timing=gyro_timing,
+        smooth=smooth,
+    )
+    return passes[1]
 
 
 def estimate_orientation_passes(
@@ -182,29 +192,15 @@ def estimate_orientation_passes(
     params: OrientationParams | None = None,
     remove_bias: bool = True,
     gyro_timing: str = "instantaneous",
+    smooth: bool = True,
 ) -> tuple[FloatArray, FloatArray]:
     """(forward, two-pass): :func:`estimate_orientation` without and with ``smooth``, in one run.
 
     The two-pass estimate reuses the forward pass (what the pipeline needs: the joints'
-    heading corrections are found on the forward orientations). Arguments, units and
-    errors as :func:`estimate_orientation`; each result is (N, 4), ``w, x, y, z``.
+    heading corrections are found on the forward orientations); with ``smooth=False``, or
+    fewer than 2 samples, both are the forward estimate. Arguments, units and errors as
+    :func:`estimate_orientation`; each result is (N, 4), ``w, x, y, z``.
     """
-    forward, two_pass = _passes(gyr, acc, mag, rate_hz, method, params, remove_bias, gyro_timing, True)
-    return forward, two_pass
-
-
-def _passes(
-    gyr: ArrayLike,
-    acc: ArrayLike,
-    mag: ArrayLike | None,
-    rate_hz: float,
-    method: str,
-    params: OrientationParams | None,
-    remove_bias: bool,
-    gyro_timing: str,
-    smooth: bool,
-) -> tuple[FloatArray, FloatArray]:
-    """(forward, two-pass or the forward again when ``smooth`` is off or N < 2)."""
     g, a, m, rate = _check_inputs(gyr, acc, mag, rate_hz, method, params)
     if gyro_timing not in GYRO_TIMINGS:
         raise InputError(f"unknown gyro_timing {gyro_timing!r}; use one of {list(GYRO_TIMINGS)}")

@@ -91,12 +91,15 @@ def track_segments(
     """
     w_common = MAG_HEADING_WEIGHT if shared_heading else 0.0
 
-    def applied(corr: HeadingCorrection) -> dict[str, FloatArray]:
-        base = quat_wxyz if quat_smoothed is None else quat_smoothed
-        return {s: rotate_about_vertical(np.asarray(base[s], float), corr.delta_rad[s]) for s in SENSORS}
+    def applied(qc: dict[str, FloatArray], corr: HeadingCorrection) -> dict[str, FloatArray]:
+        """The corrections on the two-pass orientations (``qc``, the corrected input, without them)."""
+        if quat_smoothed is None:
+            return qc
+        smoothed = quat_smoothed
+        return {s: rotate_about_vertical(np.asarray(smoothed[s], float), corr.delta_rad[s]) for s in SENSORS}
 
     qc, corr = correct_headings(quat_wxyz, acc, gyr, calibration, rate_hz, common_heading_weight=w_common)
-    qc = applied(corr)
+    qc = applied(qc, corr)
     frames = segment_frames(
         calibration, {s: mean_quaternion(qc[s][reference]) for s in SENSORS}, side, R_sensor_pelvis
     )
@@ -110,7 +113,7 @@ def track_segments(
             R_sensor_segment=frames.R_sensor_segment,
             common_heading_weight=w_common,
         )
-        qc = applied(corr)
+        qc = applied(qc, corr)
         frames = segment_frames(
             calibration, {s: mean_quaternion(qc[s][reference]) for s in SENSORS}, side, R_sensor_pelvis
         )
