@@ -167,3 +167,30 @@ def test_cli_simulate_with_real_artefacts(tmp_path):
     assert "artefacts" in json.loads(truth.read_text())
     assert main(["simulate", "--duration", "4", "--out", str(out), "--truth", str(truth), "--force"]) == 0
     assert "artefacts" not in json.loads(truth.read_text())
+
+
+def test_skin_twist_turns_the_sensor_about_its_bone_with_knee_flexion():
+    c = 0.2
+    art = _only(skin_twist_rad_per_rad={"pelvis": 0.0, "thigh": c, "shank": 0.0, "foot": 0.0})
+    sim = simulate("walk", 6.0, 2, rate_hz=1000.0, noise=ImuNoise.none(), artefacts=art)
+    assert sim.artefacts is not None
+    knee = sim.angles_rad[:, 3]
+    rot = sim.artefacts.rotation_rad
+    # about one axis fixed in the sensor (the bone's long axis), c per rad of knee flexion, zero-mean;
+    # the other sensors stay put
+    drive = c * (knee - knee.mean())
+    axis = np.linalg.lstsq(drive[:, None], rot["thigh"], rcond=None)[0][0]
+    assert abs(np.linalg.norm(axis) - 1.0) < 1e-9
+    np.testing.assert_allclose(rot["thigh"], np.outer(drive, axis), atol=1e-12)
+    for s in ("pelvis", "shank", "foot"):
+        np.testing.assert_allclose(rot[s], 0.0, atol=1e-12)
+    # the gyro follows the twisting sensor (finite differences of its orientation)
+    dt = 1e-3
+    R = quat_to_matrix(sim.quat_wxyz["thigh"])
+    dR = np.einsum("nji,njk->nik", R[:-2], R[2:])
+    w = quat_to_rotvec(quat_from_matrix(dR)) / (2 * dt)
+    assert np.max(np.abs(w - sim.clean.gyr["thigh"][1:-1])) < 0.02
+    # a real effect: the thigh sensor's angular rate differs from the rigid one's by c times the knee's
+    rigid = simulate("walk", 6.0, 2, rate_hz=1000.0, noise=ImuNoise.none())
+    extra = sim.clean.gyr["thigh"] - rigid.clean.gyr["thigh"]
+    assert np.sqrt(np.mean(np.sum(extra**2, axis=1))) > 0.5 * c * np.sqrt(np.mean(np.gradient(knee, dt) ** 2))

@@ -21,11 +21,18 @@ The model, per sensor (segment frame: x anterior, y along the bone, z right):
    the impact mode), scaled by ``tissue_gain``. The tissue displacement also
    rocks the sensor: rotation ``rock_rad_per_m[segment] · n × δ`` with ``n`` the skin
    normal (the sensor's z axis).
-3. **Skin motion.** A displacement non-linear in the joint angles that
+3. **Skin twist.** The sensor turns about the bone's long axis (segment y) with
+   the flexion of the joint whose muscles slide under it (the thigh's and the
+   shank's with the knee, the pelvis's with the hip, the foot's with the
+   ankle): ``skin_twist_rad_per_rad[segment] · θ``. Thigh soft-tissue artefact
+   is mostly a rotation about the femur that grows with knee flexion
+   (Akbarshahi et al. 2010, J Biomech 43:1292–1301). It tilts the knee axis a
+   hinge fit finds in that sensor.
+4. **Skin motion.** A displacement non-linear in the joint angles that
    deform the tissue under the sensor: ``Σ_j c_j θ_j²`` (quadratic) plus
    ``Σ_j e_j θ_sat tanh(θ_j / θ_sat)`` (saturating), random directions of
    norms ``skin_quadratic_m_per_rad2`` and ``skin_saturating_m``.
-4. **Sensor errors** (measured trial only, not ``clean``): a constant clock
+5. **Sensor errors** (measured trial only, not ``clean``): a constant clock
    offset per sensor and white timing jitter, accelerometer and gyro
    scale-factor errors and axis misalignment: ``M = diag(1 + s) (I + E)``
    with ``E`` a random off-diagonal matrix.
@@ -72,6 +79,9 @@ class Artefacts:
         skin_saturating_m: norm of the saturating skin displacement per
             driving joint angle, m.
         skin_saturation_rad: joint angle at which skin sliding saturates, rad.
+        skin_twist_rad_per_rad: sensor rotation about the segment's long axis (y) per
+            rad of the driving joint's flexion
+            (:data:`~lowerlimb.simulation.tissue_motion.TWIST_DRIVERS`), per segment, rad/rad.
         clock_offset_std_s: standard deviation of each sensor's constant clock offset, s.
         clock_jitter_std_s: standard deviation of the white sample-time jitter, s.
         acc_scale_std: standard deviation of the accelerometer scale-factor errors (unit-less).
@@ -98,6 +108,7 @@ class Artefacts:
     )
     skin_saturating_m: dict[str, float] = field(default_factory=lambda: _per_segment(0.0, 0.0, 0.0, 0.0))
     skin_saturation_rad: float = 0.5
+    skin_twist_rad_per_rad: dict[str, float] = field(default_factory=lambda: _per_segment(0.0, 0.0, 0.0, 0.0))
     clock_offset_std_s: float = 0.0
     clock_jitter_std_s: float = 0.0
     acc_scale_std: float = 0.0

@@ -30,6 +30,8 @@ SKIN_DRIVERS: dict[str, tuple[int, ...]] = {
     "shank": (3, 6),
     "foot": (6,),
 }
+#: The joint angle (angles.csv index) whose flexion twists each sensor about its bone.
+TWIST_DRIVERS: dict[str, int] = {"pelvis": 0, "thigh": 3, "shank": 3, "foot": 6}
 
 
 @dataclass
@@ -187,6 +189,13 @@ def compute_tissue_motion(
         k = params.rock_rad_per_m[sensor]
         dt_s, vt_s, at_s = d_t + d_s, v_t + v_s, a_t + a_s
         th, th_v, th_a = (k * np.cross(n, x) for x in (dt_s, vt_s, at_s))
+        # ... and twists about the bone with the flexion of the joint whose muscles slide under it
+        c, j = params.skin_twist_rad_per_rad[sensor], TWIST_DRIVERS[sensor]
+        if c != 0.0:
+            along = np.array([0.0, 1.0, 0.0])
+            th = th + c * np.outer(joints[0][:, j], along)
+            th_v = th_v + c * np.outer(joints[1][:, j], along)
+            th_a = th_a + c * np.outer(joints[2][:, j], along)
         d = d_b + dt_s
         out[sensor] = TissueMotion(
             d=d - d.mean(axis=0),
