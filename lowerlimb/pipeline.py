@@ -462,6 +462,7 @@ def process_trial(
         side=trial.side,
         shared_heading=orientations.used_mag,
         quat_smoothed=orientations.smoothed_wxyz,
+        mag=trial.mag if orientations.used_mag else None,
     )
     clock.stop("segment frames, angles")
     for message in implausible_angles(motion.angles_rad, gyr["shank"]):

@@ -47,3 +47,24 @@ def test_edge_transients_do_not_turn_the_heading() -> None:
     spiked = np.rad2deg(relative_heading(spiked_u, v, rate))
     assert np.allclose(clean, 10.0, atol=0.5)
     assert np.max(np.abs(spiked - clean)) < 0.01
+
+
+def test_the_field_seen_from_both_sensors_sets_their_relative_heading():
+    """A filter's slow magnetic loop leaves a sensor's heading off (residual gyro bias / gain);
+    the field measured by both sensors says by how much, the filters' headings do not."""
+    sim = simulate("walk", 30.0, seed=5)
+    assert sim.trial.mag is not None
+    cal = LegCalibration.from_dict(sim.truth)
+    offset = np.deg2rad(5.0)
+    quats = {s: q.copy() for s, q in sim.quat_wxyz.items()}
+    for s in ("thigh", "shank", "foot"):  # the thigh filter's heading sits 5° off; the chain below follows
+        quats[s] = rotate_about_vertical(quats[s], np.full(len(sim.trial.time_s), offset))
+    args = (quats, sim.trial.acc, sim.trial.gyr, cal, sim.trial.rate_hz)
+    _, with_field = correct_headings(*args, common_heading_weight=MAG_HEADING_WEIGHT, mag=sim.trial.mag)
+    _, trusting = correct_headings(*args, common_heading_weight=MAG_HEADING_WEIGHT)
+    # every child is 5° off its corrected parent, so every joint's correction should be −5°
+    for joint in ("hip", "knee", "ankle"):
+        err_field = np.rad2deg(np.abs(with_field.joint_delta_rad[joint] + offset))
+        err_trust = np.rad2deg(np.abs(trusting.joint_delta_rad[joint] + offset))
+        assert np.median(err_field) < 0.5, joint
+        assert np.median(err_trust) > 2.0, joint

@@ -346,6 +346,7 @@ def _one_pelvis(
             side=t.side,
             shared_heading=r.used_mag,
             quat_smoothed=r.quat_smoothed_wxyz,
+            mag=t.mag if r.used_mag else None,
         )
         model, positions, s2j = build_model(cal, motion, height_m=height_m, mass_kg=mass_kg)
         out[side] = replace(r, calibration=cal, motion=motion, model=model, positions_m=positions, s2j=s2j)

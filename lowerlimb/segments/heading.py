@@ -25,8 +25,18 @@ joint accelerations are first low-passed at 4 Hz (zero-phase Butterworth). Each 
 implicitly weighted by ``‖u_h‖‖v_h‖``, so samples without horizontal signal
 count for nothing; a small share of the whole-trial mean keeps ``δ`` defined
 during long rests. Corrections cascade down the chain: pelvis (kept) →
-thigh → shank → foot. With a magnetometer the same correction removes the
-residual heading disagreement (soft-iron, local disturbances).
+thigh → shank → foot.
+
+**Magnetometer.** With 9-axis filters each sensor's field, carried into the earth
+frame by its (corrected) orientation, is one more pair of vectors: the horizontal
+field seen from the parent and from the child should point the same way. Their unit
+horizontal parts enter the same kernel sums with the weight ``common_heading_weight``.
+This is a direct measurement of the relative heading at each sample, not the filters'
+own headings: a filter's magnetic loop is slow (Mahony's ``kp_mag`` 0.05 /s), so its
+heading sits ``b / kp_mag`` off for a residual gyro bias ``b`` left after a short still
+start (0.2°/s → 4°), differently in every sensor; pulling the correction towards zero
+(trusting the filters' headings, as before) put 3.2° into the demo walk's hip rotation,
+and the field's own direction 0.8°.
 
 **Range-of-motion prior.** When a spherical joint's centre does not accelerate
 horizontally — the ankle of a planted foot in a squat, the hip in a knee lift —
@@ -177,6 +187,14 @@ def joint_acceleration_earth(
     return _lowpass(quat_rotate(quat_wxyz, a), rate_hz)
 
 
+def _horizontal_unit(x: FloatArray) -> FloatArray:
+    """The horizontal part of earth vectors (N, 3), scaled to unit length (zero where it vanishes)."""
+    h = np.array(x, dtype=float)
+    h[:, 2] = 0.0
+    n = np.linalg.norm(h, axis=1, keepdims=True)
+    return np.divide(h, n, out=np.zeros_like(h), where=n > 1e-12)
+
+
 def _centre_reliability(excitation: ExcitationReport | None) -> float:
     """Weight in (0, 1] of a spherical joint's heading term: 1 / (1 + (σ / σ_ref)²) or more.
 
@@ -218,6 +236,7 @@ def correct_headings(
     R_sensor_segment: dict[str, FloatArray] | None = None,
     prior_weight: float = PRIOR_WEIGHT,
     common_heading_weight: float = 0.0,
+    mag: dict[str, FloatArray] | None = None,
 ) -> tuple[dict[str, FloatArray], HeadingCorrection]:
     """Make the headings of thigh, shank and foot consistent with the pelvis.
 
@@ -231,9 +250,13 @@ def correct_headings(
         R_sensor_segment: segment frames in the sensor frames (from a first
             pass); enables the range-of-motion prior at the hip and ankle.
         prior_weight: weight of that prior, (m/s²)².
-        common_heading_weight: weight, (m/s²)², of the belief that the input
-            orientations already share one heading (9-axis filters referenced
-            to the magnetic field): pulls every correction towards zero.
+        common_heading_weight: weight, (m/s²)², of the magnetic heading (9-axis
+            filters referenced to the field): with ``mag``, the term of the horizontal
+            fields seen from both sensors (module docstring); without, the belief that
+            the input orientations already share one heading, which pulls every
+            correction towards zero.
+        mag: ``{sensor: (N, 3)}`` magnetic field in the sensor frames (any unit: only its
+            horizontal direction counts), or ``None``.
 
     Returns:
         The corrected orientations and the corrections applied.
@@ -272,7 +295,17 @@ def correct_headings(
             vp = quat_rotate(q_child, R_sensor_segment[child] @ e_z)
             Sp, Cp = _heading_sums(up, vp, rate_hz, window_s)
             S, C = S + prior_weight * Sp, C + prior_weight * Cp
-        delta = np.arctan2(S, C + common_heading_weight)
+        if common_heading_weight and mag is not None:
+            Sm, Cm = _heading_sums(
+                _horizontal_unit(quat_rotate(out[parent], mag[parent])),
+                _horizontal_unit(quat_rotate(q_child, mag[child])),
+                rate_hz,
+                window_s,
+            )
+            S, C = S + common_heading_weight * Sm, C + common_heading_weight * Cm
+        elif common_heading_weight:
+            C = C + common_heading_weight
+        delta = np.arctan2(S, C)
         per_joint[joint] = delta
         out[child] = rotate_about_vertical(q_child, delta)
         total[child] = delta

@@ -64,6 +64,7 @@ def track_segments(
     range_of_motion_prior: bool = True,
     R_sensor_pelvis: FloatArray | None = None,
     quat_smoothed: dict[str, FloatArray] | None = None,
+    mag: dict[str, FloatArray] | None = None,
 ) -> SegmentMotion:
     """Segment orientations and ISB angles from per-sensor orientations.
 
@@ -82,6 +83,10 @@ def track_segments(
         range_of_motion_prior: run the second, prior-regularised heading pass.
         R_sensor_pelvis: (3, 3) pelvis segment frame in the pelvis sensor given from
             outside (two legs: one pelvis for both); default: from this leg's thigh.
+        mag: ``{sensor: (N, 3)}`` the magnetometer, used with ``shared_heading``: the
+            field seen from two adjacent sensors measures their relative heading
+            (:func:`~lowerlimb.segments.heading.correct_headings`); ``None``: the
+            filters' own headings are trusted instead.
         quat_smoothed: ``{sensor: (N, 4)}`` the same orientations with a smoothed
             inclination (forward and backward filter passes), or ``None``. The heading
             corrections are found on ``quat_wxyz`` and applied to these: on the forward
@@ -98,7 +103,9 @@ def track_segments(
         smoothed = quat_smoothed
         return {s: rotate_about_vertical(np.asarray(smoothed[s], float), corr.delta_rad[s]) for s in SENSORS}
 
-    qc, corr = correct_headings(quat_wxyz, acc, gyr, calibration, rate_hz, common_heading_weight=w_common)
+    qc, corr = correct_headings(
+        quat_wxyz, acc, gyr, calibration, rate_hz, common_heading_weight=w_common, mag=mag
+    )
     qc = applied(qc, corr)
     frames = segment_frames(
         calibration, {s: mean_quaternion(qc[s][reference]) for s in SENSORS}, side, R_sensor_pelvis
@@ -112,6 +119,7 @@ def track_segments(
             rate_hz,
             R_sensor_segment=frames.R_sensor_segment,
             common_heading_weight=w_common,
+            mag=mag,
         )
         qc = applied(qc, corr)
         frames = segment_frames(
