@@ -68,3 +68,28 @@ def test_the_field_seen_from_both_sensors_sets_their_relative_heading():
         err_trust = np.rad2deg(np.abs(trusting.joint_delta_rad[joint] + offset))
         assert np.median(err_field) < 0.5, joint
         assert np.median(err_trust) > 2.0, joint
+
+
+def test_a_field_the_two_sensors_do_not_share_is_not_used():
+    """Near iron the child's field has another dip and magnitude: its direction is not the
+    parent's north, and the term falls back to the filters' own headings."""
+    from lowerlimb.segments.heading import FIELD_DIP_SD_DEG, field_agreement
+
+    n = 500
+    field = np.tile([0.0, 20.0, -45.0], (n, 1))  # µT, earth frame: north and down
+    assert np.allclose(field_agreement(field, field), 1.0)
+    tilt = np.deg2rad(3 * FIELD_DIP_SD_DEG)  # the child's field dips 3 SD further
+    R = np.array([[1.0, 0.0, 0.0], [0.0, np.cos(tilt), np.sin(tilt)], [0.0, -np.sin(tilt), np.cos(tilt)]])
+    assert np.all(field_agreement(field, field @ R.T) < 0.02)
+    assert np.all(field_agreement(field, 1.2 * field) < 0.02)
+    assert np.all(field_agreement(field, 1.02 * field) > 0.8)
+
+    sim = simulate("walk", 20.0, seed=5)
+    assert sim.trial.mag is not None
+    cal = LegCalibration.from_dict(sim.truth)
+    args = (sim.quat_wxyz, sim.trial.acc, sim.trial.gyr, cal, sim.trial.rate_hz)
+    disturbed = dict(sim.trial.mag)
+    disturbed["thigh"] = 1.5 * disturbed["thigh"] + np.array([0.0, 0.0, 30.0])
+    _, with_field = correct_headings(*args, common_heading_weight=MAG_HEADING_WEIGHT, mag=disturbed)
+    _, trusting = correct_headings(*args, common_heading_weight=MAG_HEADING_WEIGHT)
+    np.testing.assert_allclose(with_field.joint_delta_rad["hip"], trusting.joint_delta_rad["hip"], atol=1e-3)
