@@ -242,7 +242,7 @@ def markdown(res: dict[str, Any]) -> str:
 CONCLUSION = [
     "On the real walk the thigh sensor's knee axis is 15–20° further from the horizontal than",
     "the shank sensor's and Plug-in Gait's, and both other frames lower the hip flexion RMSE by",
-    "1.3–1.5° (and the right ankle's by ~1°) while the left knee and ankle lose up to 0.5°. On",
+    "1.3–2.5° (and the right ankle's by 4–5°) while the left knee and ankle lose up to 0.5°. On",
     "the simulator the mechanical axis loses wherever there are artefacts (it measures knee",
     "flexion about an axis that is not the hinge's, so a bending knee shows as adduction and",
     "rotation), and the shank's axis trades hip flexion for knee rotation (thigh twist 0.3: hip",
