@@ -146,6 +146,8 @@ class TrialResult:
             for s, v in self.motion.heading.delta_rad.items()
             if s != "pelvis"
         }
+        if self.motion.heading.field_agreement:
+            d["magnetic_field_agreement"] = dict(self.motion.heading.field_agreement)
         d["sensor_placements"] = self.model.calibration_dict()["sensors"]
         thigh, shank = segment_lengths(self.calibration)
         d["segment_lengths_m"] = {"thigh": float(thigh), "shank": float(shank)}

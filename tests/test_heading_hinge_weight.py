@@ -93,3 +93,20 @@ def test_a_field_the_two_sensors_do_not_share_is_not_used():
     _, with_field = correct_headings(*args, common_heading_weight=MAG_HEADING_WEIGHT, mag=disturbed)
     _, trusting = correct_headings(*args, common_heading_weight=MAG_HEADING_WEIGHT)
     np.testing.assert_allclose(with_field.joint_delta_rad["hip"], trusting.joint_delta_rad["hip"], atol=1e-3)
+
+
+def test_calibration_json_says_how_far_the_field_set_the_headings():
+    import warnings
+
+    import lowerlimb as ll
+
+    sim = simulate("walk", 12.0, seed=2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        nine = ll.process_trial(sim.trial)
+        six = ll.process_trial(sim.trial, use_mag=False)
+    assert nine.used_mag
+    agreement = nine.calibration_dict()["magnetic_field_agreement"]
+    assert set(agreement) == {"hip", "knee", "ankle"}
+    assert all(0.8 < a <= 1.0 for a in agreement.values())  # the simulator's field is one field
+    assert "magnetic_field_agreement" not in six.calibration_dict()

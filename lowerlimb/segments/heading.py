@@ -54,7 +54,7 @@ walking, so it decides only where the accelerations say nothing.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -103,10 +103,14 @@ class HeadingCorrection:
         delta_rad: ``{sensor: (N,)}`` total rotation about the vertical applied
             to each sensor's orientation (pelvis: zeros), rad.
         joint_delta_rad: ``{joint: (N,)}`` the correction found at each joint, rad.
+        field_agreement: ``{joint: mean}`` of :func:`field_agreement` over the trial, the
+            share of the samples at which the magnetic term read the field seen from both
+            sensors (only the joints where the magnetometer was used).
     """
 
     delta_rad: dict[str, FloatArray]
     joint_delta_rad: dict[str, FloatArray]
+    field_agreement: dict[str, float] = field(default_factory=dict)
 
 
 #: Weight of the soft-hinge range-of-motion prior, (m/s²)² per unit axis product.
@@ -143,20 +147,21 @@ def field_agreement(m_parent: FloatArray, m_child: FloatArray) -> FloatArray:
 
 def _field_sums(
     m_parent: FloatArray, m_child: FloatArray, rate_hz: float, window_s: float
-) -> tuple[FloatArray, FloatArray]:
+) -> tuple[FloatArray, FloatArray, float]:
     """Kernel sums of the magnetic heading term (module docstring).
 
     The fields' horizontal directions count where the two sensors see one field
     (:func:`field_agreement`), the filters' own headings elsewhere. The earth-frame
     fields are low-passed first (:data:`LOWPASS_HZ`), so that the agreement measures the
-    field, not the magnetometer's white noise.
+    field, not the magnetometer's white noise. Also returns the mean agreement.
     """
     m_parent, m_child = _lowpass(m_parent, rate_hz), _lowpass(m_child, rate_hz)
     w = field_agreement(m_parent, m_child)
     u, v = _horizontal_unit(m_parent), _horizontal_unit(m_child)
     cross = w * (v[:, 0] * u[:, 1] - v[:, 1] * u[:, 0])
     dot = w * (v[:, 0] * u[:, 0] + v[:, 1] * u[:, 1]) + (1.0 - w)
-    return _kernel_sums(cross, dot, rate_hz, window_s)
+    S, C = _kernel_sums(cross, dot, rate_hz, window_s)
+    return S, C, float(np.mean(w))
 
 
 def _heading_sums(
@@ -326,6 +331,7 @@ def correct_headings(
     out = {"pelvis": np.asarray(quat_wxyz["pelvis"], dtype=float)}
     total = {"pelvis": np.zeros(len(out["pelvis"]))}
     per_joint: dict[str, FloatArray] = {}
+    agreement: dict[str, float] = {}
     for joint, parent, child in (
         ("hip", "pelvis", "thigh"),
         ("knee", "thigh", "shank"),
@@ -357,7 +363,7 @@ def correct_headings(
             Sp, Cp = _heading_sums(up, vp, rate_hz, window_s)
             S, C = S + prior_weight * Sp, C + prior_weight * Cp
         if common_heading_weight and mag is not None:
-            Sm, Cm = _field_sums(
+            Sm, Cm, agreement[joint] = _field_sums(
                 quat_rotate(out[parent], mag[parent]), quat_rotate(q_child, mag[child]), rate_hz, window_s
             )
             S, C = S + common_heading_weight * Sm, C + common_heading_weight * Cm
@@ -367,4 +373,4 @@ def correct_headings(
         per_joint[joint] = delta
         out[child] = rotate_about_vertical(q_child, delta)
         total[child] = delta
-    return out, HeadingCorrection(total, per_joint)
+    return out, HeadingCorrection(total, per_joint, agreement)
