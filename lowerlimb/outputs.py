@@ -427,9 +427,11 @@ def _checked_reference(options: CalibrateOptions, files: frozenset[str], time_s:
 
 
 def residual_lines(calibration: dict[str, Any]) -> list[str]:
-    """Console lines: each joint's RMS residuals with units, then the segment lengths when recorded.
+    """Console lines: each joint's RMS residuals, the segment lengths, the magnetometer's share.
 
-    Units: m/s² for a spherical joint's residual, rad/s for the hinge axis's.
+    The lengths when recorded; the share of the samples at which the field set each joint's
+    relative heading when the magnetometer was fused. Units: m/s² for a spherical joint's
+    residual, rad/s for the hinge axis's.
     """
     lines = []
     for name, joint in calibration["joints"].items():
@@ -443,6 +445,13 @@ def residual_lines(calibration: dict[str, Any]) -> list[str]:
         lines.append(
             f"thigh {1000 * float(lengths['thigh']):.0f} mm, shank {1000 * float(lengths['shank']):.0f} mm "
             f"(hip and ankle centre to the knee axis)"
+        )
+    agreement = calibration.get("magnetic_field_agreement")
+    if isinstance(agreement, dict) and agreement:
+        shares = ", ".join(f"{joint} {100 * float(a):.0f} %" for joint, a in agreement.items())
+        lines.append(
+            f"magnetometer fused: its field set each joint's relative heading where the two sensors "
+            f"saw one field ({shares} of the time)"
         )
     return lines
 

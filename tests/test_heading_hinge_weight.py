@@ -110,3 +110,12 @@ def test_calibration_json_says_how_far_the_field_set_the_headings():
     assert set(agreement) == {"hip", "knee", "ankle"}
     assert all(0.8 < a <= 1.0 for a in agreement.values())  # the simulator's field is one field
     assert "magnetic_field_agreement" not in six.calibration_dict()
+    from lowerlimb.outputs import residual_lines
+
+    line = [x for x in residual_lines(nine.calibration_dict()) if x.startswith("magnetometer fused")]
+    assert len(line) == 1 and f"hip {100 * agreement['hip']:.0f} %" in line[0]
+    assert not any(x.startswith("magnetometer") for x in residual_lines(six.calibration_dict()))
+    from lowerlimb.viz.report import _magnetometer_note
+
+    assert f"hip {100 * agreement['hip']:.0f} %" in _magnetometer_note(nine.calibration_dict())
+    assert _magnetometer_note(six.calibration_dict()) == ""

@@ -175,6 +175,7 @@ def render_report(
         "<h2>Calibration</h2>",
         _joint_table(calibration),
         _lengths_note(calibration),
+        _magnetometer_note(calibration),
         _knee_axis_table(calibration),
         _clock_note(calibration),
         "<h2>Joint angles</h2>",
@@ -270,6 +271,19 @@ def _lengths_note(calibration: Mapping[str, Any]) -> str:
         f"<p class='note' id='segment-lengths'>Thigh {_num(1000 * float(lengths['thigh']))} mm "
         f"(hip centre to the knee axis), shank {_num(1000 * float(lengths['shank']))} mm "
         "(ankle centre to the knee axis).</p>"
+    )
+
+
+def _magnetometer_note(calibration: Mapping[str, Any]) -> str:
+    """How often the field set each joint's relative heading (``magnetic_field_agreement``; 9-axis)."""
+    agreement = calibration.get("magnetic_field_agreement")
+    if not isinstance(agreement, Mapping) or not agreement:
+        return ""
+    shares = ", ".join(f"{_e(str(joint))} {100 * float(a):.0f} %" for joint, a in agreement.items())
+    return (
+        "<p class='note' id='magnetometer'>Magnetometer fused: its field set each joint's relative "
+        f"heading where the joint's two sensors saw one field ({shares} of the samples; elsewhere the "
+        "joint and the filters' own headings did).</p>"
     )
 
 
