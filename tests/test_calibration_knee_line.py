@@ -172,6 +172,7 @@ def test_simulated_walk_puts_the_ankle_beside_the_hip(walk, side) -> None:
 def test_mismatch_message_names_the_disagreement_and_a_fix() -> None:
     msg = axis_mismatch_message(-17.4)
     assert "17°" in msg and "soft tissue" in msg and "strap" in msg and "\n" not in msg
+    assert "hip flexion" in msg  # the thigh frame leans with the thigh's axis (knee_axis_frames.md)
 
 
 REAL = data_dir()

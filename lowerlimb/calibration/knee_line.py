@@ -216,7 +216,8 @@ def axis_mismatch_message(mismatch_deg: float) -> str:
     return (
         f"knee: the knee axis from the thigh sensor and from the shank sensor differ by "
         f"{abs(mismatch_deg):.0f}° in elevation at the standing start (a hinge keeps them equal): a sensor, "
-        f"most often the thigh's, turns on soft tissue; knee adduction and rotation and the ankle's "
+        f"most often the thigh's, turns on soft tissue; hip flexion (the thigh frame leans with the "
+        f"axis: a few degrees of offset in walking), knee adduction and rotation and the ankle's "
         f"sideways place in the chain are less certain; strap the sensors tighter over flat, lean spots"
     )
 
