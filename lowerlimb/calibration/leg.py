@@ -39,6 +39,7 @@ from lowerlimb.calibration._prepare import (
 from lowerlimb.calibration._solve import subsample_step
 from lowerlimb.calibration.cutoff_probe import cutoff_shift_message, with_cutoff_shifts
 from lowerlimb.calibration.excitation import issue_warnings
+from lowerlimb.calibration.fit_band import FitBand, widened_caps, widened_fit_doubt
 from lowerlimb.calibration.hinge_joint import fit_hinge_joint
 from lowerlimb.calibration.impact_window import impact_cutoff_limit_hz, impact_keep_mask
 from lowerlimb.calibration.joint_center import fit_spherical
@@ -101,6 +102,7 @@ class LegCalibration:
             start).
         rest_gravity_removed: whether those offsets were taken off along each sensor's
             standing vertical before the fits (``CalibrationOptions.rest_gravity_correction``).
+        fit_band: the band the joints were fitted in (:mod:`~lowerlimb.calibration.fit_band`).
     """
 
     side: str
@@ -119,6 +121,7 @@ class LegCalibration:
     fit_rate_hz: float = 0.0
     rest_gravity_offsets: dict[str, float] = field(default_factory=dict)
     rest_gravity_removed: bool = False
+    fit_band: FitBand = field(default_factory=FitBand)
 
     @property
     def joints(self) -> dict[str, SphericalJointCalibration | HingeJointCalibration]:
@@ -150,6 +153,7 @@ class LegCalibration:
             "fit_rate_hz": float(self.fit_rate_hz),
             "rest_gravity_offset_mps2": {k: float(v) for k, v in self.rest_gravity_offsets.items()},
             "rest_gravity_removed": bool(self.rest_gravity_removed),
+            "fit_band": self.fit_band.to_dict(),
             "warnings": self.warnings,
         }
 
@@ -184,6 +188,7 @@ class LegCalibration:
                 fit_rate_hz=float(d.get("fit_rate_hz", 0.0)),
                 rest_gravity_offsets={k: float(v) for k, v in d.get("rest_gravity_offset_mps2", {}).items()},
                 rest_gravity_removed=bool(d.get("rest_gravity_removed", False)),
+                fit_band=FitBand.from_dict(d.get("fit_band")),
             )
         except KeyError as e:
             raise InputError(f"calibration document lacks the key {e.args[0]!r}") from None
@@ -297,8 +302,39 @@ def calibrate_leg(
 
     t0 = time.perf_counter()
     still = still or detect_still_period(list(gyr.values()), list(acc.values()), rate)
+    if opts.fit_band_factor == 1.0:
+        return _fit_leg(side, method, acc, gyr, rate, still, opts, t0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        cal = _fit_leg(side, method, acc, gyr, rate, still, widened_caps(opts), t0)
+    n = still.samples(opts.still_min_s) if still is not None else 0
+    ups = [acc[s][:n].mean(axis=0) if n > 0 else None for s in ("thigh", "shank")]
+    reason, warn = widened_fit_doubt(cal, ups[0], ups[1], opts)
+    if reason is None:
+        for w in caught:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        return replace(cal, fit_band=FitBand(opts.fit_band_factor, widened=True))
+    band = FitBand(opts.fit_band_factor, widened=False, reason=reason)
+    cal = replace(_fit_leg(side, method, acc, gyr, rate, still, opts, t0), fit_band=band)
+    return replace(cal, knee=_with_warning(cal.knee, band.fallback_message())) if warn else cal
+
+
+def _fit_leg(
+    side: str,
+    method: str,
+    acc: dict[str, FloatArray],
+    gyr: dict[str, FloatArray],
+    rate: float,
+    still: StillPeriod | None,
+    opts: CalibrationOptions,
+    t0: float,
+) -> LegCalibration:
+    """The joints of one leg fitted with ``opts`` on checked signals (stages 1–4 of the module docstring).
+
+    ``t0`` is the :func:`time.perf_counter` at which the calibration began (``runtime_s``).
+    """
     offsets: dict[str, float] = {}
-    n_rest = still.samples(opts.still_min_s)
+    n_rest = still.samples(opts.still_min_s) if still is not None else 0
     if n_rest and opts.rest_gravity_correction:
         acc, offsets = vertical_offsets_removed(acc, slice(0, n_rest))
     elif n_rest:

@@ -232,6 +232,19 @@ class CalibrationOptions:
             widened and record how far each centre moves
             (:mod:`~lowerlimb.calibration.cutoff_probe`; a record, no estimate changes).
         cutoff_probe_factor: the widening factor (> 1).
+        fit_band_factor: :func:`~lowerlimb.calibration.leg.calibrate_leg` fits the joints with
+            every rigid-band cap multiplied by this, and again as the options give them when
+            that fit shows sensors that are not rigid on the bone
+            (:mod:`~lowerlimb.calibration.fit_band`; 1: one fit, as given; ≥ 1).
+        fit_band_max_mismatch_deg: the widened fit is not kept when its knee axis seen from
+            the thigh and from the shank sensor differs by more than this in elevation at the
+            standing start, deg (the sensors are not rigid on the bone; a hinge keeps it). The
+            rigid seven-IMU simulator's legs: at most 0.2°; with its real-walk artefacts
+            0.1–7.8° (at 5°, seed 201's right knee, widened with a 4.9° mismatch, fell into a
+            hinge minimum 17.5° off, 3.8° in the coherent band); the real walk's: 17–24°.
+        fit_band_min_ratio: a segment of the widened fit shorter than this times its
+            anthropometric length (at ``prior_stature_m``) is implausible.
+        fit_band_max_ratio: one longer than this times it is implausible.
         split_half_probe: repeat the hip and ankle fits on each half of the recording and
             record half the difference (:mod:`~lowerlimb.calibration.split_half`; a
             record and a warning, no estimate changes). Refits are thinned to at most
@@ -349,6 +362,10 @@ class CalibrationOptions:
     knee_line_max_mismatch_deg: float = 5.0
     cutoff_probe: bool = True
     cutoff_probe_factor: float = 1.5
+    fit_band_factor: float = 1.5
+    fit_band_max_mismatch_deg: float = 2.0
+    fit_band_min_ratio: float = 0.6
+    fit_band_max_ratio: float = 1.5
     cutoff_probe_max_samples: int = 6000
     cutoff_shift_warn_m: float = 0.03
     split_half_probe: bool = True
@@ -375,6 +392,7 @@ class CalibrationOptions:
             "knee_line_std_m",
             "knee_line_min_data_std_m",
             "knee_line_max_mismatch_deg",
+            "fit_band_max_mismatch_deg",
             "hinge_band_max_disagreement_deg",
         ):
             if getattr(self, name) <= 0:
@@ -417,6 +435,13 @@ class CalibrationOptions:
         for name in ("split_half_warn_m", "cutoff_shift_warn_m"):
             if not 0.0 < getattr(self, name) < math.inf:
                 raise InputError(f"{name} must be a length > 0 in m, got {getattr(self, name)}")
+        if not 1.0 <= self.fit_band_factor < math.inf:
+            raise InputError(f"fit_band_factor must be >= 1 (1: no widened fit), got {self.fit_band_factor}")
+        if not 0.0 < self.fit_band_min_ratio < 1.0 < self.fit_band_max_ratio < math.inf:
+            raise InputError(
+                "fit_band_min_ratio must be in (0, 1) and fit_band_max_ratio > 1, got "
+                f"{self.fit_band_min_ratio} and {self.fit_band_max_ratio}"
+            )
         if not self.cutoff_probe_factor > 1.0:
             raise InputError(f"cutoff_probe_factor must be > 1, got {self.cutoff_probe_factor}")
         if not 0.0 < self.clock_min_explained <= 1.0:

@@ -1,0 +1,176 @@
+"""The band a leg's joints are fitted in: wider than the coherent band, unless that breaks the leg.
+
+Why: each joint's sensor pair is low-passed at most at the edge of the band in which the
+two sensors move as one rigid chain (the rigid-band cap,
+:func:`~lowerlimb.calibration._prepare.rigid_band_cap_hz`), and a pair with impacts at most
+at the impact limit (:mod:`~lowerlimb.calibration.impact_window`). That is what lets a real
+walk with soft-tissue wobble calibrate at all. But a filter at the edge of the joint's
+band also attenuates the joint's own motion there, and the low-passed norm form of Hu et
+al. 2021 eq. 3 then places the centres too near the sensors. On the rigid seven-IMU
+simulator (``simulate_bilateral`` seeds 201–206, twelve legs; ``benchmarks/length_variants.py``,
+``benchmarks/gait.py``) with every cap at the band's edge:
+
+* thigh −20.8 mm and shank −23.6 mm mean length error (79 / 78 mm worst);
+* the hip in the pelvis sensor 33 mm worst, in the thigh sensor 41 mm, the ankle in the
+  shank sensor 134 mm, in the foot sensor 27 mm; the knee axis 0.9°.
+
+With the caps widened by half (:attr:`~CalibrationOptions.fit_band_factor` 1.5; the
+sensors' own noise-limited cut-offs stay):
+
+* thigh −4.6 mm and shank −8.6 mm (22 / 46 mm worst; 2.6 / 1.6 mm median);
+* the hip 17 / 18 mm worst, the ankle 52 / 9 mm, the knee axis 0.2°; step width 9.9 mm
+  median (13.1), 33 mm worst (45); the angles within 0.1°.
+
+The wider band is not always safe. On the real walk of ``gait/`` the left leg's knee,
+fitted in it, leaves its axis line 70 mm from the hip (a knee centre on the thigh
+sensor's far side, beside the hip: the sensor's wobble above the coherent band is
+not a hinge's motion); at the band's edge the thigh is 10 mm from Plug-in Gait's. On
+its right leg the widened band kept a plausible leg (thigh +29 → −11 mm against Plug-in
+Gait) but moved the knee 8 cm along its axis: the ankle's sideways place in the chain
+(the two ankles 29.0 → 18.9 cm apart sideways at standing) and the step width error
+(12 → 102 mm median) with it. Both legs' sensors show that they are not rigid on the
+bone: the knee axis seen from the thigh and from the shank sensor differs by 17–18° in
+elevation at standing, where a hinge keeps it equal (the simulator's rigid sensors: 0.1°).
+That rule rests on one real recording. The threshold, 2°, is ten times the rigid
+simulator's mismatch (≤ 0.2°); with the simulator's real-walk artefacts (soft tissue,
+impacts) the legs show 0.1–7.8°, and one of them, widened with 4.9°, put its knee axis
+17.5° off (3.8° in the coherent band). There neither band gives lengths within
+centimetres (0.1–0.3 m off either way).
+
+So :func:`~lowerlimb.calibration.leg.calibrate_leg` fits the leg in the widened band and
+fits it again in the coherent band, as the options give it, when the widened fit shows
+that the sensors do not sit rigidly (:func:`widened_fit_doubt`): the two knee axis
+estimates disagree at standing by more than ``fit_band_max_mismatch_deg`` (the knee's own
+mismatch warning then says so), or a segment is implausible (:func:`implausible_segment`,
+with a warning of its own).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Any, Protocol
+
+import numpy as np
+
+from lowerlimb.calibration.geometry import distance_to_line
+from lowerlimb.calibration.knee_line import standing_axis_mismatch
+from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
+from lowerlimb.conventions import FloatArray
+
+__all__ = ["FitBand", "implausible_segment", "segment_lengths_m", "widened_caps", "widened_fit_doubt"]
+
+
+class _LegJoints(Protocol):
+    hip: SphericalJointCalibration
+    knee: HingeJointCalibration
+    ankle: SphericalJointCalibration
+
+
+def widened_caps(options: CalibrationOptions) -> CalibrationOptions:
+    """The options with the rigid-band caps widened by ``fit_band_factor`` (``rigid_band_factor``).
+
+    The sensors' own adaptive cut-offs (a noise-limited bandwidth, ``cutoff_factor``) and the
+    impact limit are not widened: widening the adaptive cut-offs too put a one-leg simulated
+    walk's ankle 16 mm off in the shank sensor instead of 9 mm.
+    """
+    return replace(options, rigid_band_factor=options.rigid_band_factor * options.fit_band_factor)
+
+
+def segment_lengths_m(leg: _LegJoints) -> tuple[float, float]:
+    """Thigh and shank length, m: the hip and the ankle centre's distance from the knee axis line.
+
+    Args:
+        leg: calibrated hip, knee and ankle (the thigh length in the thigh sensor frame, the
+            shank length in the shank sensor frame).
+    """
+    k = leg.knee
+    return (
+        distance_to_line(leg.hip.center_in_child_sensor, k.center_in_parent_sensor, k.axis_in_parent_sensor),
+        distance_to_line(leg.ankle.center_in_parent_sensor, k.center_in_child_sensor, k.axis_in_child_sensor),
+    )
+
+
+def implausible_segment(leg: _LegJoints, options: CalibrationOptions) -> str | None:
+    """Why a leg's thigh or shank is implausible, or ``None`` when both are plausible.
+
+    A segment is plausible when its length (:func:`segment_lengths_m`) lies within
+    ``fit_band_min_ratio`` … ``fit_band_max_ratio`` times its anthropometric length at the
+    prior's stature (``thigh_length_per_stature`` × ``prior_stature_m``, the same for the shank).
+    """
+    out = []
+    for name, length, per_stature in zip(
+        ("thigh", "shank"),
+        segment_lengths_m(leg),
+        (options.thigh_length_per_stature, options.shank_length_per_stature),
+        strict=True,
+    ):
+        expected = per_stature * options.prior_stature_m
+        lo, hi = options.fit_band_min_ratio * expected, options.fit_band_max_ratio * expected
+        if not lo <= length <= hi:
+            mm = f"{length * 1000:.0f} mm long, plausible {lo * 1000:.0f}–{hi * 1000:.0f} mm"
+            out.append(f"the {name} {mm}")
+    return " and ".join(out) or None
+
+
+def widened_fit_doubt(
+    leg: _LegJoints, up_thigh: FloatArray | None, up_shank: FloatArray | None, options: CalibrationOptions
+) -> tuple[str | None, bool]:
+    """Why a leg fitted in the widened band is not kept (``None``: it is), and whether to warn.
+
+    Args:
+        leg: the widened fit.
+        up_thigh: (3,) mean thigh accelerometer over the standing start, sensor frame, m/s²
+            (``None``: no standing start, no axis check).
+        up_shank: the same for the shank.
+        options: ``fit_band_max_mismatch_deg`` and the plausible lengths.
+
+    Returns:
+        ``(reason, warn)``: an axis mismatch is warned about by the knee itself (``warn`` false);
+        an implausible segment is not, so ``warn`` is true.
+    """
+    if up_thigh is not None and up_shank is not None:
+        mismatch = float(np.degrees(standing_axis_mismatch(leg.knee, up_thigh, up_shank)))
+        if abs(mismatch) > options.fit_band_max_mismatch_deg:
+            return (
+                f"the knee axis seen from the thigh and from the shank sensor differs by "
+                f"{abs(mismatch):.0f}° in elevation at standing",
+                False,
+            )
+    reason = implausible_segment(leg, options)
+    return reason, reason is not None
+
+
+@dataclass(frozen=True)
+class FitBand:
+    """The band the leg's joints were fitted in (calibration.json ``fit_band``).
+
+    Attributes:
+        factor: the widening tried, ``CalibrationOptions.fit_band_factor`` (1: none).
+        widened: whether the joints come from the widened band.
+        reason: why the widened fit was not kept (``None`` when it was, or none was tried).
+    """
+
+    factor: float = 1.0
+    widened: bool = False
+    reason: str | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The calibration.json record."""
+        return {"factor": float(self.factor), "widened": bool(self.widened), "reason": self.reason}
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any] | None) -> FitBand:
+        """Inverse of :meth:`to_dict` (``None`` or empty: an older calibration, nothing tried)."""
+        if not d:
+            return cls()
+        return cls(float(d.get("factor", 1.0)), bool(d.get("widened", False)), d.get("reason"))
+
+    def fallback_message(self) -> str:
+        """The warning of a leg refitted in the coherent band."""
+        return (
+            f"calibration: fitted in a band {self.factor:g}× wider than where its sensors move as one "
+            f"chain, the leg was implausible ({self.reason}), so its joints were fitted within that "
+            f"band, where segment lengths can come out a few centimetres short; above it the sensors "
+            f"move against the bone (soft tissue, loose straps)"
+        )
