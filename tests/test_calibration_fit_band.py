@@ -13,7 +13,13 @@ from simcache import cached_simulation, data_dir, real_walk_leg_mapping
 
 import lowerlimb as ll
 from lowerlimb.calibration import calibrate_leg
-from lowerlimb.calibration.fit_band import FitBand, implausible_segment, segment_lengths_m, widened_caps
+from lowerlimb.calibration.fit_band import (
+    NO_STANDING_START,
+    FitBand,
+    implausible_segment,
+    segment_lengths_m,
+    widened_caps,
+)
 from lowerlimb.calibration.leg import LegCalibration
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
@@ -112,6 +118,26 @@ def test_an_implausible_widened_leg_is_refitted_in_the_coherent_band(capped_leg)
     others = sorted(str(w.message) for w in caught if w not in fallback)
     assert others == sorted(str(w.message) for w in edge_caught)
     assert cal.to_dict()["fit_band"] == {"factor": 1.5, "widened": False, "reason": cal.fit_band.reason}
+
+
+def test_a_trial_without_a_standing_start_is_fitted_in_the_coherent_band_only(capped_leg) -> None:
+    """Nothing shows its sensors rigid: one fit, the coherent band's, and the reason recorded."""
+    trial, _ = capped_leg
+    i = int(10.0 * trial.rate_hz)  # mid-walk
+    cut = ll.ImuTrial(
+        trial.time_s[i:] - trial.time_s[i],
+        {k: v[i:] for k, v in trial.acc.items()},
+        {k: v[i:] for k, v in trial.gyr.items()},
+        None,
+        side=trial.side,
+    )
+    assert cut.still_period().samples(1.0) == 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cal = calibrate_leg(cut)
+        edge = calibrate_leg(cut, options=CalibrationOptions(fit_band_factor=1.0))
+    assert cal.fit_band == FitBand(1.5, widened=False, reason=NO_STANDING_START)
+    assert segment_lengths_m(cal) == pytest.approx(segment_lengths_m(edge), abs=1e-12)
 
 
 DATA = data_dir()

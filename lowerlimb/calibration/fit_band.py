@@ -42,7 +42,11 @@ fits it again in the coherent band, as the options give it, when the widened fit
 that the sensors do not sit rigidly (:func:`widened_fit_doubt`): the two knee axis
 estimates disagree at standing by more than ``fit_band_max_mismatch_deg`` (the knee's own
 mismatch warning then says so), or a segment is implausible (:func:`implausible_segment`,
-with a warning of its own).
+with a warning of its own). A trial without a standing start, where nothing can show
+rigid sensors, is fitted in the coherent band only: the real walk cut mid-stride kept,
+widened, a plausible right leg with its thigh at +28 … −16 mm and its shank at +17 … +21 mm
+against Plug-in Gait, where the coherent band gives +58 … +22 and −5 … −22 mm
+(``benchmarks/results/cut_start.md``, three cuts), no clear gain.
 """
 
 from __future__ import annotations
@@ -58,7 +62,14 @@ from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.conventions import FloatArray
 
-__all__ = ["FitBand", "implausible_segment", "segment_lengths_m", "widened_caps", "widened_fit_doubt"]
+__all__ = [
+    "NO_STANDING_START",
+    "FitBand",
+    "implausible_segment",
+    "segment_lengths_m",
+    "widened_caps",
+    "widened_fit_doubt",
+]
 
 
 class _LegJoints(Protocol):
@@ -114,14 +125,13 @@ def implausible_segment(leg: _LegJoints, options: CalibrationOptions) -> str | N
 
 
 def widened_fit_doubt(
-    leg: _LegJoints, up_thigh: FloatArray | None, up_shank: FloatArray | None, options: CalibrationOptions
+    leg: _LegJoints, up_thigh: FloatArray, up_shank: FloatArray, options: CalibrationOptions
 ) -> tuple[str | None, bool]:
     """Why a leg fitted in the widened band is not kept (``None``: it is), and whether to warn.
 
     Args:
         leg: the widened fit.
-        up_thigh: (3,) mean thigh accelerometer over the standing start, sensor frame, m/s²
-            (``None``: no standing start, no axis check).
+        up_thigh: (3,) mean thigh accelerometer over the standing start, sensor frame, m/s².
         up_shank: the same for the shank.
         options: ``fit_band_max_mismatch_deg`` and the plausible lengths.
 
@@ -129,16 +139,19 @@ def widened_fit_doubt(
         ``(reason, warn)``: an axis mismatch is warned about by the knee itself (``warn`` false);
         an implausible segment is not, so ``warn`` is true.
     """
-    if up_thigh is not None and up_shank is not None:
-        mismatch = float(np.degrees(standing_axis_mismatch(leg.knee, up_thigh, up_shank)))
-        if abs(mismatch) > options.fit_band_max_mismatch_deg:
-            return (
-                f"the knee axis seen from the thigh and from the shank sensor differs by "
-                f"{abs(mismatch):.0f}° in elevation at standing",
-                False,
-            )
+    mismatch = float(np.degrees(standing_axis_mismatch(leg.knee, up_thigh, up_shank)))
+    if abs(mismatch) > options.fit_band_max_mismatch_deg:
+        return (
+            f"the knee axis seen from the thigh and from the shank sensor differs by "
+            f"{abs(mismatch):.0f}° in elevation at standing",
+            False,
+        )
     reason = implausible_segment(leg, options)
     return reason, reason is not None
+
+
+#: :attr:`FitBand.reason` of a trial without a standing start: nothing shows that its sensors are rigid.
+NO_STANDING_START = "no standing start, where the two knee axis estimates would show rigid sensors"
 
 
 @dataclass(frozen=True)

@@ -39,7 +39,7 @@ from lowerlimb.calibration._prepare import (
 from lowerlimb.calibration._solve import subsample_step
 from lowerlimb.calibration.cutoff_probe import cutoff_shift_message, with_cutoff_shifts
 from lowerlimb.calibration.excitation import issue_warnings
-from lowerlimb.calibration.fit_band import FitBand, widened_caps, widened_fit_doubt
+from lowerlimb.calibration.fit_band import NO_STANDING_START, FitBand, widened_caps, widened_fit_doubt
 from lowerlimb.calibration.hinge_joint import fit_hinge_joint
 from lowerlimb.calibration.impact_window import impact_cutoff_limit_hz, impact_keep_mask
 from lowerlimb.calibration.joint_center import fit_spherical
@@ -302,14 +302,35 @@ def calibrate_leg(
 
     t0 = time.perf_counter()
     still = still or detect_still_period(list(gyr.values()), list(acc.values()), rate)
+    return _fit_in_band(side, method, acc, gyr, rate, still, opts, t0)
+
+
+def _fit_in_band(
+    side: str,
+    method: str,
+    acc: dict[str, FloatArray],
+    gyr: dict[str, FloatArray],
+    rate: float,
+    still: StillPeriod | None,
+    opts: CalibrationOptions,
+    t0: float,
+) -> LegCalibration:
+    """The leg fitted with widened rigid-band caps where a standing start shows rigid sensors, else as given.
+
+    See :mod:`~lowerlimb.calibration.fit_band`. The widened fit's warnings are issued only when
+    it is kept; a leg refitted for an implausible segment also gets the fit band's warning.
+    """
+    n = still.samples(opts.still_min_s) if still is not None else 0
     if opts.fit_band_factor == 1.0:
         return _fit_leg(side, method, acc, gyr, rate, still, opts, t0)
+    if n == 0:
+        band = FitBand(opts.fit_band_factor, widened=False, reason=NO_STANDING_START)
+        return replace(_fit_leg(side, method, acc, gyr, rate, still, opts, t0), fit_band=band)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         cal = _fit_leg(side, method, acc, gyr, rate, still, widened_caps(opts), t0)
-    n = still.samples(opts.still_min_s) if still is not None else 0
-    ups = [acc[s][:n].mean(axis=0) if n > 0 else None for s in ("thigh", "shank")]
-    reason, warn = widened_fit_doubt(cal, ups[0], ups[1], opts)
+    up = {s: acc[s][:n].mean(axis=0) for s in ("thigh", "shank")}
+    reason, warn = widened_fit_doubt(cal, up["thigh"], up["shank"], opts)
     if reason is None:
         for w in caught:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
