@@ -39,8 +39,9 @@ centimetres (0.1–0.3 m off either way).
 
 So :func:`~lowerlimb.calibration.leg.calibrate_leg` fits the leg in the widened band and
 fits it again in the coherent band, as the options give it, when the widened fit shows
-that the sensors do not sit rigidly (:func:`widened_fit_doubt`): the two knee axis
-estimates disagree at standing by more than ``fit_band_max_mismatch_deg`` (the knee's own
+that the sensors do not sit rigidly: the two knee axis
+estimates disagree at standing by more than ``fit_band_max_mismatch_deg``
+(:func:`axis_mismatch_reason`, checked as soon as the knee is fitted; the knee's own
 mismatch warning then says so), or a segment is implausible (:func:`implausible_segment`,
 with a warning of its own). A trial without a standing start, where nothing can show
 rigid sensors, is fitted in the coherent band only: the real walk cut mid-stride kept,
@@ -65,10 +66,10 @@ from lowerlimb.conventions import FloatArray
 __all__ = [
     "NO_STANDING_START",
     "FitBand",
+    "axis_mismatch_reason",
     "implausible_segment",
     "segment_lengths_m",
     "widened_caps",
-    "widened_fit_doubt",
 ]
 
 
@@ -124,30 +125,28 @@ def implausible_segment(leg: _LegJoints, options: CalibrationOptions) -> str | N
     return " and ".join(out) or None
 
 
-def widened_fit_doubt(
-    leg: _LegJoints, up_thigh: FloatArray, up_shank: FloatArray, options: CalibrationOptions
-) -> tuple[str | None, bool]:
-    """Why a leg fitted in the widened band is not kept (``None``: it is), and whether to warn.
+def axis_mismatch_reason(
+    knee: HingeJointCalibration, up_thigh: FloatArray, up_shank: FloatArray, options: CalibrationOptions
+) -> str | None:
+    """Why a widened fit's knee shows sensors that are not rigid (``None``: it does not).
 
     Args:
-        leg: the widened fit.
+        knee: the widened fit's knee.
         up_thigh: (3,) mean thigh accelerometer over the standing start, sensor frame, m/s².
         up_shank: the same for the shank.
-        options: ``fit_band_max_mismatch_deg`` and the plausible lengths.
+        options: ``fit_band_max_mismatch_deg``.
 
     Returns:
-        ``(reason, warn)``: an axis mismatch is warned about by the knee itself (``warn`` false);
-        an implausible segment is not, so ``warn`` is true.
+        The reason when the knee axis's elevation above the standing horizontal, seen from the
+        thigh and from the shank sensor, differs by more than ``fit_band_max_mismatch_deg``.
     """
-    mismatch = float(np.degrees(standing_axis_mismatch(leg.knee, up_thigh, up_shank)))
-    if abs(mismatch) > options.fit_band_max_mismatch_deg:
-        return (
-            f"the knee axis seen from the thigh and from the shank sensor differs by "
-            f"{abs(mismatch):.0f}° in elevation at standing",
-            False,
-        )
-    reason = implausible_segment(leg, options)
-    return reason, reason is not None
+    mismatch = float(np.degrees(standing_axis_mismatch(knee, up_thigh, up_shank)))
+    if abs(mismatch) <= options.fit_band_max_mismatch_deg:
+        return None
+    return (
+        f"the knee axis seen from the thigh and from the shank sensor differs by "
+        f"{abs(mismatch):.0f}° in elevation at standing"
+    )
 
 
 #: :attr:`FitBand.reason` of a trial without a standing start: nothing shows that its sensors are rigid.

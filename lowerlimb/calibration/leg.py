@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any, Protocol
 
@@ -39,7 +39,13 @@ from lowerlimb.calibration._prepare import (
 from lowerlimb.calibration._solve import subsample_step
 from lowerlimb.calibration.cutoff_probe import cutoff_shift_message, with_cutoff_shifts
 from lowerlimb.calibration.excitation import issue_warnings
-from lowerlimb.calibration.fit_band import NO_STANDING_START, FitBand, widened_caps, widened_fit_doubt
+from lowerlimb.calibration.fit_band import (
+    NO_STANDING_START,
+    FitBand,
+    axis_mismatch_reason,
+    implausible_segment,
+    widened_caps,
+)
 from lowerlimb.calibration.hinge_joint import fit_hinge_joint
 from lowerlimb.calibration.impact_window import impact_cutoff_limit_hz, impact_keep_mask
 from lowerlimb.calibration.joint_center import fit_spherical
@@ -317,27 +323,43 @@ def _fit_in_band(
 ) -> LegCalibration:
     """The leg fitted with widened rigid-band caps where a standing start shows rigid sensors, else as given.
 
-    See :mod:`~lowerlimb.calibration.fit_band`. The widened fit's warnings are issued only when
-    it is kept; a leg refitted for an implausible segment also gets the fit band's warning.
+    See :mod:`~lowerlimb.calibration.fit_band`. The widened fit stops as soon as its knee shows
+    an axis mismatch; its warnings are issued only when it is kept; a leg refitted for an
+    implausible segment also gets the fit band's warning.
     """
     n = still.samples(opts.still_min_s) if still is not None else 0
-    if opts.fit_band_factor == 1.0:
+    caps = opts.prefilter and opts.rigid_band and opts.cutoff_hz is None  # else nothing to widen
+    if opts.fit_band_factor == 1.0 or not caps:
         return _fit_leg(side, method, acc, gyr, rate, still, opts, t0)
     if n == 0:
         band = FitBand(opts.fit_band_factor, widened=False, reason=NO_STANDING_START)
         return replace(_fit_leg(side, method, acc, gyr, rate, still, opts, t0), fit_band=band)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        cal = _fit_leg(side, method, acc, gyr, rate, still, widened_caps(opts), t0)
     up = {s: acc[s][:n].mean(axis=0) for s in ("thigh", "shank")}
-    reason, warn = widened_fit_doubt(cal, up["thigh"], up["shank"], opts)
+
+    def rigid_knee(knee: HingeJointCalibration) -> None:
+        reason = axis_mismatch_reason(knee, up["thigh"], up["shank"], opts)
+        if reason is not None:
+            raise _NotRigid(reason)
+
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            cal = _fit_leg(side, method, acc, gyr, rate, still, widened_caps(opts), t0, rigid_knee)
+        reason = implausible_segment(cal, opts)
+    except _NotRigid as e:  # the knee's own mismatch warning says so: no warning of the band's
+        band = FitBand(opts.fit_band_factor, widened=False, reason=str(e))
+        return replace(_fit_leg(side, method, acc, gyr, rate, still, opts, t0), fit_band=band)
     if reason is None:
         for w in caught:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         return replace(cal, fit_band=FitBand(opts.fit_band_factor, widened=True))
     band = FitBand(opts.fit_band_factor, widened=False, reason=reason)
     cal = replace(_fit_leg(side, method, acc, gyr, rate, still, opts, t0), fit_band=band)
-    return replace(cal, knee=_with_warning(cal.knee, band.fallback_message())) if warn else cal
+    return replace(cal, knee=_with_warning(cal.knee, band.fallback_message()))
+
+
+class _NotRigid(Exception):
+    """The widened fit's knee shows sensors that are not rigid on the bone (the reason)."""
 
 
 def _fit_leg(
@@ -349,10 +371,12 @@ def _fit_leg(
     still: StillPeriod | None,
     opts: CalibrationOptions,
     t0: float,
+    knee_check: Callable[[HingeJointCalibration], None] | None = None,
 ) -> LegCalibration:
     """The joints of one leg fitted with ``opts`` on checked signals (stages 1–4 of the module docstring).
 
-    ``t0`` is the :func:`time.perf_counter` at which the calibration began (``runtime_s``).
+    ``t0`` is the :func:`time.perf_counter` at which the calibration began (``runtime_s``);
+    ``knee_check`` sees the knee as soon as it is fitted and may raise to stop the fit.
     """
     offsets: dict[str, float] = {}
     n_rest = still.samples(opts.still_min_s) if still is not None else 0
@@ -394,6 +418,8 @@ def _fit_leg(
         parent_sensor=pk,
         child_sensor=ck,
     )
+    if knee_check is not None:
+        knee_check(knee)
     hip_prior, ankle_prior = (
         leg_priors(knee, acc, sig.n_still, opts) if opts.anthropometric_prior else (None, None)
     )
