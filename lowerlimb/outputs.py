@@ -444,7 +444,7 @@ def residual_lines(calibration: dict[str, Any]) -> list[str]:
     if isinstance(lengths, dict) and {"thigh", "shank"} <= lengths.keys():
         lines.append(
             f"thigh {1000 * float(lengths['thigh']):.0f} mm, shank {1000 * float(lengths['shank']):.0f} mm "
-            f"(hip and ankle centre to the knee axis)"
+            f"(hip and ankle centre to the knee axis{_band_text(calibration.get('fit_band'))})"
         )
     agreement = calibration.get("magnetic_field_agreement")
     if isinstance(agreement, dict) and agreement:
@@ -454,6 +454,15 @@ def residual_lines(calibration: dict[str, Any]) -> list[str]:
             f"saw one field ({shares} of the time)"
         )
     return lines
+
+
+def _band_text(band: Any) -> str:
+    """How the joints' band reads on the lengths line (calibration.json ``fit_band``; empty: none)."""
+    if not isinstance(band, dict) or float(band.get("factor", 1.0)) == 1.0:
+        return ""
+    if band.get("widened"):
+        return f"; fitted with the rigid-band caps widened {float(band['factor']):g}x"
+    return f"; fitted within the coherent band: {band.get('reason')}"
 
 
 def _fmt(value: Any) -> str:

@@ -261,6 +261,12 @@ def test_segment_lengths_are_recorded_shown_and_near_the_truth(calibrated):
     assert abs(lengths["thigh"] - true_lengths[0]) < 0.015 and abs(lengths["shank"] - true_lengths[1]) < 0.015
     thigh_mm = f"{1000 * lengths['thigh']:.0f} mm"
     assert any(line.startswith(f"thigh {thigh_mm}, shank") for line in residual_lines(cal))
+    band = {"factor": 1.5, "widened": False, "reason": "the knee axis differs"}
+    (line,) = [x for x in residual_lines(cal | {"fit_band": band}) if x.startswith("thigh")]
+    assert line.endswith("fitted within the coherent band: the knee axis differs)")
+    wide = band | {"widened": True}
+    (line,) = [x for x in residual_lines(cal | {"fit_band": wide}) if x.startswith("thigh")]
+    assert line.endswith("fitted with the rigid-band caps widened 1.5x)")
     assert f"Thigh {1000 * lengths['thigh']:.3g} mm" in (out / "report.html").read_text()
 
 

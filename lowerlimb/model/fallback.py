@@ -22,6 +22,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..calibration.fit_band import segment_lengths_m
 from ..calibration.leg import LegCalibration
 from ..conventions import FloatArray
 from .anthropometry import segment_inertias
@@ -46,22 +47,9 @@ class FallbackParams:
     max_ratio: float = 1.5
 
 
-def _distance_to_line(point: FloatArray, on_line: FloatArray, axis: FloatArray) -> float:
-    d = np.asarray(point, dtype=float) - np.asarray(on_line, dtype=float)
-    u = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
-    return float(np.linalg.norm(d - d.dot(u) * u))
-
-
 def segment_lengths(calibration: LegCalibration) -> tuple[float, float]:
     """Thigh and shank length of a calibration, m: hip and ankle centres to the knee axis line."""
-    k = calibration.knee
-    thigh = _distance_to_line(
-        calibration.hip.center_in_child_sensor, k.center_in_parent_sensor, k.axis_in_parent_sensor
-    )
-    shank = _distance_to_line(
-        calibration.ankle.center_in_parent_sensor, k.center_in_child_sensor, k.axis_in_child_sensor
-    )
-    return thigh, shank
+    return segment_lengths_m(calibration)
 
 
 def _along_vertical(knee: FloatArray, axis: FloatArray, up: FloatArray, length: float) -> FloatArray:
