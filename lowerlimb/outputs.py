@@ -444,7 +444,7 @@ def residual_lines(calibration: dict[str, Any]) -> list[str]:
     if isinstance(lengths, dict) and {"thigh", "shank"} <= lengths.keys():
         lines.append(
             f"thigh {1000 * float(lengths['thigh']):.0f} mm, shank {1000 * float(lengths['shank']):.0f} mm "
-            f"(hip and ankle centre to the knee axis{_band_text(calibration.get('fit_band'))})"
+            f"(hip and ankle centre to the knee axis{_band_text(calibration)})"
         )
     agreement = calibration.get("magnetic_field_agreement")
     if isinstance(agreement, dict) and agreement:
@@ -456,11 +456,18 @@ def residual_lines(calibration: dict[str, Any]) -> list[str]:
     return lines
 
 
-def _band_text(band: Any) -> str:
-    """How the joints' band reads on the lengths line (calibration.json ``fit_band``; empty: none)."""
+def _band_text(calibration: dict[str, Any]) -> str:
+    """How the joints' band reads on the lengths line (calibration.json ``fit_band``; empty: none).
+
+    Nothing when no widening was tried, or when the widened fit was kept but had no cap to widen.
+    """
+    band = calibration.get("fit_band")
     if not isinstance(band, dict) or float(band.get("factor", 1.0)) == 1.0:
         return ""
     if band.get("widened"):
+        caps = calibration.get("rigid_band_cap_hz") or {}
+        if not any(v is not None for v in caps.values()):
+            return ""
         return f"; fitted with the rigid-band caps widened {float(band['factor']):g}x"
     return f"; fitted within the coherent band: {band.get('reason')}"
 

@@ -264,8 +264,8 @@ def test_segment_lengths_are_recorded_shown_and_near_the_truth(calibrated):
     band = {"factor": 1.5, "widened": False, "reason": "the knee axis differs"}
     (line,) = [x for x in residual_lines(cal | {"fit_band": band}) if x.startswith("thigh")]
     assert line.endswith("fitted within the coherent band: the knee axis differs)")
-    wide = band | {"widened": True}
-    (line,) = [x for x in residual_lines(cal | {"fit_band": wide}) if x.startswith("thigh")]
+    wide = {"fit_band": band | {"widened": True}, "rigid_band_cap_hz": {"pelvis-thigh": 3.9}}
+    (line,) = [x for x in residual_lines(cal | wide) if x.startswith("thigh")]
     assert line.endswith("fitted with the rigid-band caps widened 1.5x)")
     assert f"Thigh {1000 * lengths['thigh']:.3g} mm" in (out / "report.html").read_text()
 
