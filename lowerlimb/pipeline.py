@@ -20,6 +20,7 @@ from __future__ import annotations
 import sys
 import time
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -27,7 +28,7 @@ import numpy as np
 
 from .calibration import LegCalibration, calibrate_leg
 from .calibration.axial_sign import axial_sign_correlation, gyro_sign_is_clear
-from .calibration.clock_sync import synchronise
+from .calibration.clock_sync import ClockOffsets, synchronise
 from .calibration.options import CalibrationOptions
 from .calibration.plausibility import SIDE_MIN_MOTION_S, check_side, pelvis_turn_side_cue
 from .calibration.rest_gravity import AccelerometerOffsetWarning, rest_gravity_notes, rest_gravity_offsets
@@ -199,23 +200,48 @@ def _calibrate_synchronised(
     issued once (before, a re-timed trial repeated each excitation warning two or three
     times, with slightly different numbers).
     """
-    kept: list[warnings.WarningMessage] = []
 
-    def calibrate(t: ImuTrial) -> LegCalibration:
-        nonlocal kept
+    def calibrate(t: ImuTrial, o: CalibrationOptions) -> tuple[LegCalibration, list[warnings.WarningMessage]]:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            cal = calibrate_joints(t, method, still, previous, options)
-        kept = list(caught)
-        return cal
+            cal = calibrate_joints(t, method, still, previous, o)
+        return cal, list(caught)
 
-    calib = calibrate(trial)
+    calib, kept = calibrate(trial, options)
     if previous is None and options.clock_sync:
-        trial, calib, offsets = synchronise(trial, calib, calibrate, options)
+        # the clock search compares fits in the coherent band: widened caps let a thigh–shank
+        # offset bend the knee centre until its lag explains too little (seven-IMU simulator,
+        # σ 10 ms clocks: knee pairs left 11–28 ms off); the leg's band is chosen again after
+        calib, kept, trial, offsets = _search_clocks(trial, calib, kept, calibrate, options)
         calib = replace(calib, clock_offsets=offsets.to_dict())
     for w in kept:
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     return trial, calib
+
+
+_Calibrate = Callable[[ImuTrial, CalibrationOptions], tuple[LegCalibration, list[warnings.WarningMessage]]]
+
+
+def _search_clocks(
+    trial: ImuTrial,
+    calib: LegCalibration,
+    kept: list[warnings.WarningMessage],
+    calibrate: _Calibrate,
+    options: CalibrationOptions,
+) -> tuple[LegCalibration, list[warnings.WarningMessage], ImuTrial, ClockOffsets]:
+    """The clock search on coherent-band fits; the kept calibration and its warnings, the trial, the record.
+
+    A leg whose first fit was widened is fitted once more in the coherent band for the
+    search; when the search re-times the trial, the re-timed trial is fitted with
+    ``options`` (its band chosen again), else the first fit stays.
+    """
+    coherent = replace(options, fit_band_factor=1.0)
+    start = calib if not calib.fit_band.widened else calibrate(trial, coherent)[0]
+    retimed, _, offsets = synchronise(trial, start, lambda t: calibrate(t, coherent)[0], options)
+    if not offsets.applied:
+        return calib, kept, trial, offsets
+    calib, kept = calibrate(retimed, options)
+    return calib, kept, retimed, offsets
 
 
 def calibrate_joints(
