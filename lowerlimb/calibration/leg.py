@@ -308,33 +308,47 @@ def calibrate_leg(
 
     t0 = time.perf_counter()
     still = still or detect_still_period(list(gyr.values()), list(acc.values()), rate)
-    return _fit_in_band(side, method, acc, gyr, rate, still, opts, t0)
+    return _fit_in_band(_CheckedLeg(side, method, acc, gyr, rate, still, t0), opts)
 
 
-def _fit_in_band(
-    side: str,
-    method: str,
-    acc: dict[str, FloatArray],
-    gyr: dict[str, FloatArray],
-    rate: float,
-    still: StillPeriod | None,
-    opts: CalibrationOptions,
-    t0: float,
-) -> LegCalibration:
+@dataclass(frozen=True)
+class _CheckedLeg:
+    """A leg's checked signals and what every fit of it shares.
+
+    Attributes:
+        side: ``"left"`` or ``"right"``.
+        method: the calibration method.
+        acc: ``{sensor: (N, 3)}`` checked accelerometers, sensor frames, m/s².
+        gyr: ``{sensor: (N, 3)}`` checked gyros, sensor frames, rad/s.
+        rate: sampling rate, Hz.
+        still: the still start (``None``: none found).
+        t0: the :func:`time.perf_counter` at which the calibration began (``runtime_s``).
+    """
+
+    side: str
+    method: str
+    acc: dict[str, FloatArray]
+    gyr: dict[str, FloatArray]
+    rate: float
+    still: StillPeriod | None
+    t0: float
+
+
+def _fit_in_band(leg: _CheckedLeg, opts: CalibrationOptions) -> LegCalibration:
     """The leg fitted with widened rigid-band caps where a standing start shows rigid sensors, else as given.
 
     See :mod:`~lowerlimb.calibration.fit_band`. The widened fit stops as soon as its knee shows
     an axis mismatch; its warnings are issued only when it is kept; a leg refitted for an
     implausible segment also gets the fit band's warning.
     """
-    n = still.samples(opts.still_min_s) if still is not None else 0
+    n = leg.still.samples(opts.still_min_s) if leg.still is not None else 0
     caps = opts.prefilter and opts.rigid_band and opts.cutoff_hz is None  # else nothing to widen
     if opts.fit_band_factor == 1.0 or not caps:
-        return _fit_leg(side, method, acc, gyr, rate, still, opts, t0)
+        return _fit_leg(leg, opts)
     if n == 0:
         band = FitBand(opts.fit_band_factor, widened=False, reason=NO_STANDING_START)
-        return replace(_fit_leg(side, method, acc, gyr, rate, still, opts, t0), fit_band=band)
-    up = {s: acc[s][:n].mean(axis=0) for s in ("thigh", "shank")}
+        return replace(_fit_leg(leg, opts), fit_band=band)
+    up = {s: leg.acc[s][:n].mean(axis=0) for s in ("thigh", "shank")}
 
     def rigid_knee(knee: HingeJointCalibration) -> None:
         reason = axis_mismatch_reason(knee, up["thigh"], up["shank"], opts)
@@ -344,17 +358,17 @@ def _fit_in_band(
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            cal = _fit_leg(side, method, acc, gyr, rate, still, widened_caps(opts), t0, rigid_knee)
+            cal = _fit_leg(leg, widened_caps(opts), rigid_knee)
         reason = implausible_segment(cal, opts)
     except _NotRigid as e:  # the knee's own mismatch warning says so: no warning of the band's
         band = FitBand(opts.fit_band_factor, widened=False, reason=str(e))
-        return replace(_fit_leg(side, method, acc, gyr, rate, still, opts, t0), fit_band=band)
+        return replace(_fit_leg(leg, opts), fit_band=band)
     if reason is None:
         for w in caught:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         return replace(cal, fit_band=FitBand(opts.fit_band_factor, widened=True))
     band = FitBand(opts.fit_band_factor, widened=False, reason=reason)
-    cal = replace(_fit_leg(side, method, acc, gyr, rate, still, opts, t0), fit_band=band)
+    cal = replace(_fit_leg(leg, opts), fit_band=band)
     return replace(cal, knee=_with_warning(cal.knee, band.fallback_message()))
 
 
@@ -363,21 +377,15 @@ class _NotRigid(Exception):
 
 
 def _fit_leg(
-    side: str,
-    method: str,
-    acc: dict[str, FloatArray],
-    gyr: dict[str, FloatArray],
-    rate: float,
-    still: StillPeriod | None,
+    leg: _CheckedLeg,
     opts: CalibrationOptions,
-    t0: float,
     knee_check: Callable[[HingeJointCalibration], None] | None = None,
 ) -> LegCalibration:
-    """The joints of one leg fitted with ``opts`` on checked signals (stages 1–4 of the module docstring).
+    """The joints of one leg fitted with ``opts`` (stages 1–4 of the module docstring).
 
-    ``t0`` is the :func:`time.perf_counter` at which the calibration began (``runtime_s``);
     ``knee_check`` sees the knee as soon as it is fitted and may raise to stop the fit.
     """
+    side, method, acc, gyr, rate, still = leg.side, leg.method, leg.acc, leg.gyr, leg.rate, leg.still
     offsets: dict[str, float] = {}
     n_rest = still.samples(opts.still_min_s) if still is not None else 0
     if n_rest and opts.rest_gravity_correction:
@@ -446,7 +454,7 @@ def _fit_leg(
     priors = {n: pr.to_dict() for n, pr in (("hip", hip_prior), ("ankle", ankle_prior)) if pr is not None}
     if opts.anthropometric_prior and opts.knee_line_prior:
         knee, priors["knee_line"] = _knee_line(knee, hip, ankle, acc, gyr, sig, caps, method, opts)
-    runtime = time.perf_counter() - t0
+    runtime = time.perf_counter() - leg.t0
     return LegCalibration(
         side=side,
         method=method,
