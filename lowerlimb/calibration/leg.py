@@ -13,6 +13,10 @@
    with the joint-centre accelerations;
 4. ankle: spherical joint shank–foot.
 
+All four run first with the rigid-band caps widened by ``fit_band_factor``, and again as the
+options give them when that fit shows sensors that are not rigid on the bone or an
+implausible segment (:mod:`~lowerlimb.calibration.fit_band`).
+
 ``runtime_s`` is the wall time of these steps (signal preparation included,
 trial loading excluded), the number calibration.json reports (docs/formats.md).
 """
