@@ -232,10 +232,15 @@ def _search_clocks(
     """The clock search on coherent-band fits; the kept calibration and its warnings, the trial, the record.
 
     A leg whose first fit was widened is fitted once more in the coherent band for the
-    search; when the search re-times the trial, the re-timed trial is fitted with
+    search (without the cut-off and split-half probes and the sensor-order check, which change
+    no estimate); when the search re-times the trial, the re-timed trial is fitted with
     ``options`` (its band chosen again), else the first fit stays.
     """
-    coherent = replace(options, fit_band_factor=1.0)
+    # the search reads only the centres and axes: the probes (records) and the sensor-order
+    # check (done on the first fit) are left out
+    coherent = replace(
+        options, fit_band_factor=1.0, cutoff_probe=False, split_half_probe=False, check_sensor_order=False
+    )
     start = calib if not calib.fit_band.widened else calibrate(trial, coherent)[0]
     retimed, _, offsets = synchronise(trial, start, lambda t: calibrate(t, coherent)[0], options)
     if not offsets.applied:
