@@ -27,6 +27,7 @@ from .agreement.files import Table
 from .agreement.reference_checks import check_time_overlap
 from .agreement.report import agreement_section_html, compare_result, read_reference
 from .calibration import LegCalibration
+from .calibration.fit_band import NO_CAP_BINDS
 from .calibration.options import CalibrationOptions, check_method
 from .conventions import FloatArray, check_side
 from .errors import InputError
@@ -459,10 +460,13 @@ def residual_lines(calibration: dict[str, Any]) -> list[str]:
 def _band_text(calibration: dict[str, Any]) -> str:
     """How the joints' band reads on the lengths line (calibration.json ``fit_band``; empty: none).
 
-    Nothing when no widening was tried, or when the widened fit was kept but had no cap to widen.
+    Nothing when no widening was tried, or when no cap lowered a cut-off (both bands give
+    one fit; an older calibration: a widened fit without caps).
     """
     band = calibration.get("fit_band")
     if not isinstance(band, dict) or float(band.get("factor", 1.0)) == 1.0:
+        return ""
+    if band.get("reason") == NO_CAP_BINDS:
         return ""
     if band.get("widened"):
         caps = calibration.get("rigid_band_cap_hz") or {}

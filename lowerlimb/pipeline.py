@@ -231,17 +231,18 @@ def _search_clocks(
 ) -> tuple[LegCalibration, list[warnings.WarningMessage], ImuTrial, ClockOffsets]:
     """The clock search on coherent-band fits; the kept calibration and its warnings, the trial, the record.
 
-    A leg whose first fit was widened is fitted once more in the coherent band for the
-    search (without the cut-off and split-half probes and the sensor-order check, which change
-    no estimate); when the search re-times the trial, the re-timed trial is fitted with
-    ``options`` (its band chosen again), else the first fit stays.
+    It starts from the leg's coherent-band fit (``LegCalibration.coherent_fit`` beside a
+    widened one) and fits each re-timed trial in that band (without the cut-off and
+    split-half probes and the sensor-order check, which change no estimate); when the search
+    re-times the trial, the re-timed trial is fitted with ``options`` (its band chosen
+    again), else the first fit stays.
     """
     # the search reads only the centres and axes: the probes (records) and the sensor-order
     # check (done on the first fit) are left out
     coherent = replace(
         options, fit_band_factor=1.0, cutoff_probe=False, split_half_probe=False, check_sensor_order=False
     )
-    start = calib if not calib.fit_band.widened else calibrate(trial, coherent)[0]
+    start = calib.coherent_fit if calib.coherent_fit is not None else calib
     retimed, _, offsets = synchronise(trial, start, lambda t: calibrate(t, coherent)[0], options)
     if not offsets.applied:
         return calib, kept, trial, offsets

@@ -14,6 +14,7 @@ from simcache import cached_simulation, data_dir, real_walk_leg_mapping
 import lowerlimb as ll
 from lowerlimb.calibration import calibrate_leg
 from lowerlimb.calibration.fit_band import (
+    NO_CAP_BINDS,
     NO_STANDING_START,
     FitBand,
     implausible_segment,
@@ -67,6 +68,19 @@ def test_a_segment_far_from_its_anthropometric_length_is_implausible() -> None:
     assert thigh > 0.3
 
 
+def test_a_leg_whose_caps_lower_no_cut_off_is_fitted_once() -> None:
+    """A one-leg simulated walk: no cap lowers its sensors' own cut-offs, so the widened band
+    would give the same fit; the coherent one is the only one made."""
+    trial = cached_simulation("walk", 20.0, 0).trial
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cal = calibrate_leg(trial)
+        edge = calibrate_leg(trial, options=CalibrationOptions(fit_band_factor=1.0))
+    assert cal.fit_band == FitBand(1.5, widened=False, reason=NO_CAP_BINDS) and cal.coherent_fit is None
+    np.testing.assert_array_equal(cal.hip.center_in_child_sensor, edge.hip.center_in_child_sensor)
+    np.testing.assert_array_equal(cal.knee.axis_in_parent_sensor, edge.knee.axis_in_parent_sensor)
+
+
 @pytest.fixture(scope="module")
 def capped_leg() -> tuple[Any, dict[str, Any]]:
     """A seven-IMU walk whose left hip pair the rigid band caps at 3 Hz (seed 205)."""
@@ -92,7 +106,11 @@ def test_the_widened_band_undoes_the_coherent_bands_short_segments(capped_leg) -
         warnings.simplefilter("ignore")
         wide = calibrate_leg(trial)
         edge = calibrate_leg(trial, options=CalibrationOptions(fit_band_factor=1.0))
-    assert wide.fit_band == FitBand(1.5, widened=True) and edge.fit_band == FitBand()
+    pairs = ("pelvis-thigh", "shank-foot", "thigh-shank")  # the caps lowered every pair's cut-offs
+    assert wide.fit_band == FitBand(1.5, widened=True, capped=pairs)
+    assert edge.fit_band == FitBand(capped=pairs)
+    assert wide.coherent_fit is not None  # for the clock search: the coherent band's fit, as `edge`
+    assert segment_lengths_m(wide.coherent_fit) == pytest.approx(segment_lengths_m(edge), abs=1e-12)
     e_wide, e_edge = _lengths_error_mm(wide, truth), _lengths_error_mm(edge, truth)
     assert np.all(np.abs(e_wide) < 20.0), e_wide
     assert e_edge[0] < -50.0, e_edge  # the coherent band's edge shortens the thigh
@@ -117,7 +135,9 @@ def test_an_implausible_widened_leg_is_refitted_in_the_coherent_band(capped_leg)
     assert len(fallback) == 1 and fallback[0].message.args[0] in cal.warnings
     others = sorted(str(w.message) for w in caught if w not in fallback)
     assert others == sorted(str(w.message) for w in edge_caught)
-    assert cal.to_dict()["fit_band"] == {"factor": 1.5, "widened": False, "reason": cal.fit_band.reason}
+    band = {"factor": 1.5, "widened": False, "reason": cal.fit_band.reason}
+    band["capped"] = list(cal.fit_band.capped)
+    assert cal.to_dict()["fit_band"] == band and cal.fit_band.capped and cal.coherent_fit is None
 
 
 def test_a_trial_without_a_standing_start_is_fitted_in_the_coherent_band_only(capped_leg) -> None:
@@ -136,7 +156,7 @@ def test_a_trial_without_a_standing_start_is_fitted_in_the_coherent_band_only(ca
         warnings.simplefilter("ignore")
         cal = calibrate_leg(cut)
         edge = calibrate_leg(cut, options=CalibrationOptions(fit_band_factor=1.0))
-    assert cal.fit_band == FitBand(1.5, widened=False, reason=NO_STANDING_START)
+    assert cal.fit_band == FitBand(1.5, widened=False, reason=NO_STANDING_START, capped=edge.fit_band.capped)
     assert segment_lengths_m(cal) == pytest.approx(segment_lengths_m(edge), abs=1e-12)
 
 

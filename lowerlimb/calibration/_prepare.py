@@ -278,6 +278,7 @@ def joint_signals(
     *,
     own_band: bool = True,
     max_hz: float | None = None,
+    capped: set[str] | None = None,
 ) -> SphericalData:
     """One joint's pair data, filtered at the joint's cut-offs (:mod:`~lowerlimb.calibration.joint_cutoff`).
 
@@ -302,6 +303,8 @@ def joint_signals(
         max_hz: an upper limit on both sensors' cut-offs after the cap, Hz (an
             unfiltered sensor is filtered at it; ``None``: no limit;
             :func:`~lowerlimb.calibration.impact_window.impact_cutoff_limit_hz`).
+        capped: when given, receives ``f"{parent}-{child}"`` if the cap lowered the pair's
+            cut-offs (the fit depends on the cap).
 
     Returns:
         The pair data.
@@ -312,6 +315,10 @@ def joint_signals(
     if caps is not None:
         caps[f"{parent}-{child}"] = cap
     want = joint_cutoffs_hz(sig.cutoff_hz[parent], sig.cutoff_hz[child], cap, options)
+    if capped is not None and want != joint_cutoffs_hz(
+        sig.cutoff_hz[parent], sig.cutoff_hz[child], None, options
+    ):
+        capped.add(f"{parent}-{child}")
     want = (_limited(want[0], max_hz, sig.rate_hz), _limited(want[1], max_hz, sig.rate_hz))
     if want == (sig.cutoff_hz[parent], sig.cutoff_hz[child]):
         return pair_data(sig, parent, child)

@@ -37,14 +37,18 @@ impacts) the legs show 0.1–7.8°, and one of them, widened with 4.9°, put its
 17.5° off (3.8° in the coherent band). There neither band gives lengths within
 centimetres (0.1–0.3 m off either way).
 
-So :func:`~lowerlimb.calibration.leg.calibrate_leg` fits the leg in the widened band and
-fits it again in the coherent band, as the options give it, when the widened fit shows
-that the sensors do not sit rigidly: the two knee axis
+So :func:`~lowerlimb.calibration.leg.calibrate_leg` fits the leg in the coherent band, as
+the options give it, and then, where a coherent-band cap lowered a joint's cut-offs
+(:attr:`FitBand.capped`; else the widened band gives the same fit, :data:`NO_CAP_BINDS`),
+in the widened band. It keeps the widened fit unless that fit shows that the sensors do not
+sit rigidly: the two knee axis
 estimates disagree at standing by more than ``fit_band_max_mismatch_deg``
 (:func:`axis_mismatch_reason`, checked as soon as the knee is fitted; the knee's own
 mismatch warning then says so), or a segment is implausible (:func:`implausible_segment`,
-with a warning of its own). A trial without a standing start, where nothing can show
-rigid sensors, is fitted in the coherent band only: the real walk cut mid-stride kept,
+with a warning of its own). The coherent fit is kept beside a widened one
+(``LegCalibration.coherent_fit``) for the clock search. A trial without a standing start,
+where nothing can show rigid sensors, is fitted in the coherent band only: the real walk
+cut mid-stride kept,
 widened, a plausible right leg with its thigh at +28 … −16 mm and its shank at +17 … +21 mm
 against Plug-in Gait, where the coherent band gives +58 … +22 and −5 … −22 mm
 (``benchmarks/results/cut_start.md``, three cuts), no clear gain.
@@ -64,6 +68,7 @@ from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointC
 from lowerlimb.conventions import FloatArray
 
 __all__ = [
+    "NO_CAP_BINDS",
     "NO_STANDING_START",
     "FitBand",
     "axis_mismatch_reason",
@@ -152,6 +157,9 @@ def axis_mismatch_reason(
 #: :attr:`FitBand.reason` of a trial without a standing start: nothing shows that its sensors are rigid.
 NO_STANDING_START = "no standing start, where the two knee axis estimates would show rigid sensors"
 
+#: :attr:`FitBand.reason` of a leg whose coherent-band caps lowered no cut-off: both bands give one fit.
+NO_CAP_BINDS = "no rigid-band cap lowered a cut-off, so the widened band would give the same fit"
+
 
 @dataclass(frozen=True)
 class FitBand:
@@ -161,22 +169,32 @@ class FitBand:
         factor: the widening tried, ``CalibrationOptions.fit_band_factor`` (1: none).
         widened: whether the joints come from the widened band.
         reason: why the widened fit was not kept (``None`` when it was, or none was tried).
+        capped: the joint sensor pairs (``"parent-child"``) whose cut-offs the coherent band's
+            caps lowered; the band matters only for these (empty: it made no difference, or
+            no coherent fit was made).
     """
 
     factor: float = 1.0
     widened: bool = False
     reason: str | None = None
+    capped: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """The calibration.json record."""
-        return {"factor": float(self.factor), "widened": bool(self.widened), "reason": self.reason}
+        return {
+            "factor": float(self.factor),
+            "widened": bool(self.widened),
+            "reason": self.reason,
+            "capped": list(self.capped),
+        }
 
     @classmethod
     def from_dict(cls, d: dict[str, Any] | None) -> FitBand:
         """Inverse of :meth:`to_dict` (``None`` or empty: an older calibration, nothing tried)."""
         if not d:
             return cls()
-        return cls(float(d.get("factor", 1.0)), bool(d.get("widened", False)), d.get("reason"))
+        capped = tuple(str(k) for k in d.get("capped", ()))
+        return cls(float(d.get("factor", 1.0)), bool(d.get("widened", False)), d.get("reason"), capped)
 
     def fallback_message(self) -> str:
         """The warning of a leg refitted in the coherent band."""

@@ -13,9 +13,10 @@
    with the joint-centre accelerations;
 4. ankle: spherical joint shank–foot.
 
-All four run first with the rigid-band caps widened by ``fit_band_factor``, and again as the
-options give them when that fit shows sensors that are not rigid on the bone or an
-implausible segment (:mod:`~lowerlimb.calibration.fit_band`).
+All four run first as the options give them and, where a rigid-band cap lowered a cut-off,
+again with the caps widened by ``fit_band_factor``; that fit is kept unless it shows sensors
+that are not rigid on the bone or an implausible segment
+(:mod:`~lowerlimb.calibration.fit_band`).
 
 ``runtime_s`` is the wall time of these steps (signal preparation included,
 trial loading excluded), the number calibration.json reports (docs/formats.md).
@@ -44,6 +45,7 @@ from lowerlimb.calibration._solve import subsample_step
 from lowerlimb.calibration.cutoff_probe import cutoff_shift_message, with_cutoff_shifts
 from lowerlimb.calibration.excitation import issue_warnings
 from lowerlimb.calibration.fit_band import (
+    NO_CAP_BINDS,
     NO_STANDING_START,
     FitBand,
     axis_mismatch_reason,
@@ -113,6 +115,8 @@ class LegCalibration:
         rest_gravity_removed: whether those offsets were taken off along each sensor's
             standing vertical before the fits (``CalibrationOptions.rest_gravity_correction``).
         fit_band: the band the joints were fitted in (:mod:`~lowerlimb.calibration.fit_band`).
+        coherent_fit: the leg fitted in the coherent band, beside a kept widened fit (not
+            written; the clock search compares coherent-band fits); ``None`` otherwise.
     """
 
     side: str
@@ -132,6 +136,7 @@ class LegCalibration:
     rest_gravity_offsets: dict[str, float] = field(default_factory=dict)
     rest_gravity_removed: bool = False
     fit_band: FitBand = field(default_factory=FitBand)
+    coherent_fit: LegCalibration | None = field(default=None, repr=False, compare=False)
 
     @property
     def joints(self) -> dict[str, SphericalJointCalibration | HingeJointCalibration]:
@@ -341,17 +346,26 @@ class _CheckedLeg:
 def _fit_in_band(leg: _CheckedLeg, opts: CalibrationOptions) -> LegCalibration:
     """The leg fitted with widened rigid-band caps where a standing start shows rigid sensors, else as given.
 
-    See :mod:`~lowerlimb.calibration.fit_band`. The widened fit stops as soon as its knee shows
-    an axis mismatch; its warnings are issued only when it is kept; a leg refitted for an
-    implausible segment also gets the fit band's warning.
+    See :mod:`~lowerlimb.calibration.fit_band`. The coherent band's fit comes first; the
+    widened one is tried only where a cap lowered a cut-off, and stops as soon as its knee
+    shows an axis mismatch. Only the kept fit is probed and only its warnings are issued; a
+    leg refitted for an implausible segment also gets the fit band's warning.
     """
     n = leg.still.samples(opts.still_min_s) if leg.still is not None else 0
     caps = opts.prefilter and opts.rigid_band and opts.cutoff_hz is None  # else nothing to widen
     if opts.fit_band_factor == 1.0 or not caps:
-        return _fit_leg(leg, opts)
+        fit = _fit_leg(leg, opts)
+        return _kept(leg, fit, fit.cal.fit_band, [])
+    factor = opts.fit_band_factor
     if n == 0:
-        band = FitBand(opts.fit_band_factor, widened=False, reason=NO_STANDING_START)
-        return replace(_fit_leg(leg, opts), fit_band=band)
+        fit = _fit_leg(leg, opts)
+        return _kept(leg, fit, replace(fit.cal.fit_band, factor=factor, reason=NO_STANDING_START), [])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        coherent = _fit_leg(leg, opts)
+    capped = coherent.cal.fit_band.capped
+    if not capped:
+        return _kept(leg, coherent, FitBand(factor, reason=NO_CAP_BINDS), caught)
     up = {s: leg.acc[s][:n].mean(axis=0) for s in ("thigh", "shank")}
 
     def rigid_knee(knee: HingeJointCalibration) -> None:
@@ -360,20 +374,29 @@ def _fit_in_band(leg: _CheckedLeg, opts: CalibrationOptions) -> LegCalibration:
             raise _NotRigid(reason)
 
     try:
-        with warnings.catch_warnings(record=True) as caught:
+        with warnings.catch_warnings(record=True) as caught_wide:
             warnings.simplefilter("always")
-            cal = _fit_leg(leg, widened_caps(opts), rigid_knee)
-        reason = implausible_segment(cal, opts)
+            # the sensor order was checked by the coherent fit
+            wide = _fit_leg(leg, replace(widened_caps(opts), check_sensor_order=False), rigid_knee)
+        reason = implausible_segment(wide.cal, opts)
     except _NotRigid as e:  # the knee's own mismatch warning says so: no warning of the band's
-        band = FitBand(opts.fit_band_factor, widened=False, reason=str(e))
-        return replace(_fit_leg(leg, opts), fit_band=band)
+        return _kept(leg, coherent, FitBand(factor, reason=str(e), capped=capped), caught)
     if reason is None:
-        for w in caught:
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-        return replace(cal, fit_band=FitBand(opts.fit_band_factor, widened=True))
-    band = FitBand(opts.fit_band_factor, widened=False, reason=reason)
-    cal = replace(_fit_leg(leg, opts), fit_band=band)
+        kept = _kept(leg, wide, FitBand(factor, widened=True, capped=capped), caught_wide)
+        return replace(kept, coherent_fit=replace(coherent.cal, fit_band=kept.fit_band))
+    band = FitBand(factor, reason=reason, capped=capped)
+    cal = _kept(leg, coherent, band, caught)
     return replace(cal, knee=_with_warning(cal.knee, band.fallback_message()))
+
+
+def _kept(
+    leg: _CheckedLeg, fit: _Fit, band: FitBand, caught: list[warnings.WarningMessage]
+) -> LegCalibration:
+    """The kept fit: its recorded warnings issued, then probed, with its band and the whole runtime."""
+    for w in caught:
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    cal = fit.probes.recorded(fit.cal)
+    return replace(cal, fit_band=band, runtime_s=time.perf_counter() - leg.t0)
 
 
 class _NotRigid(Exception):
@@ -384,8 +407,8 @@ def _fit_leg(
     leg: _CheckedLeg,
     opts: CalibrationOptions,
     knee_check: Callable[[HingeJointCalibration], None] | None = None,
-) -> LegCalibration:
-    """The joints of one leg fitted with ``opts`` (stages 1–4 of the module docstring).
+) -> _Fit:
+    """The joints of one leg fitted with ``opts`` (stages 1–4 of the module docstring), unprobed.
 
     ``knee_check`` sees the knee as soon as it is fitted and may raise to stop the fit.
     """
@@ -406,6 +429,7 @@ def _fit_leg(
         check_sensor_order(acc, gyr, sig, opts)
 
     caps: dict[str, float | None] = {}
+    capped: set[str] = set()
     p, c, _ = JOINT_SENSORS["hip"]
     pa, ca, _ = JOINT_SENSORS["ankle"]
     hip_keep, ankle_keep = (
@@ -416,12 +440,14 @@ def _fit_leg(
     )
     limits = {j: impact_cutoff_limit_hz(kp, opts) for j, kp in (("hip", hip_keep), ("ankle", ankle_keep))}
     pair_keys = {"hip": f"{p}-{c}", "ankle": f"{pa}-{ca}"}
-    hip_data = joint_signals(acc, gyr, sig, p, c, opts, caps, max_hz=limits["hip"])
-    ankle_data = joint_signals(acc, gyr, sig, pa, ca, opts, caps, max_hz=limits["ankle"])
+    hip_data = joint_signals(acc, gyr, sig, p, c, opts, caps, max_hz=limits["hip"], capped=capped)
+    ankle_data = joint_signals(acc, gyr, sig, pa, ca, opts, caps, max_hz=limits["ankle"], capped=capped)
     near = [v for v in caps.values() if v is not None]
     pk, ck, _ = JOINT_SENSORS["knee"]
     knee = fit_hinge_joint(
-        joint_signals(acc, gyr, sig, pk, ck, opts, caps, min(near) if near else None, own_band=False),
+        joint_signals(
+            acc, gyr, sig, pk, ck, opts, caps, min(near) if near else None, own_band=False, capped=capped
+        ),
         rate_hz=rate,
         method=method,
         options=opts,
@@ -445,27 +471,20 @@ def _fit_leg(
         )
     )
     setup = {"hip": (p, c, hip_prior, hip_keep), "ankle": (pa, ca, ankle_prior, ankle_keep)}
-    if opts.cutoff_probe:
-        hip, ankle = _probe_cutoffs(hip, ankle, setup, limits, acc, gyr, sig, method, opts)
-    if opts.split_half_probe:
-        hip, ankle = (
-            _probe_halves(j, d, setup[j.joint], sig.n_still, method, opts)
-            for j, d in ((hip, hip_data), (ankle, ankle_data))
-        )
+    probes = _Probes(setup, {"hip": hip_data, "ankle": ankle_data}, limits, acc, gyr, sig, method, opts)
     if opts.centre_form == "aligned" or opts.hip_in_pelvis_form == "aligned":
         keeps = {"hip": hip_keep, "ankle": ankle_keep}
         hip, knee, ankle = _aligned(hip, knee, ankle, acc, gyr, sig, caps, keeps, opts)
     priors = {n: pr.to_dict() for n, pr in (("hip", hip_prior), ("ankle", ankle_prior)) if pr is not None}
     if opts.anthropometric_prior and opts.knee_line_prior:
         knee, priors["knee_line"] = _knee_line(knee, hip, ankle, acc, gyr, sig, caps, method, opts)
-    runtime = time.perf_counter() - leg.t0
-    return LegCalibration(
+    cal = LegCalibration(
         side=side,
         method=method,
         hip=hip,
         knee=knee,
         ankle=ankle,
-        runtime_s=runtime,
+        runtime_s=time.perf_counter() - leg.t0,
         gyro_bias=sig.gyro_bias,
         still_s=sig.n_still / rate,
         cutoff_hz=sig.cutoff_hz,
@@ -475,7 +494,59 @@ def _fit_leg(
         priors=priors,
         rest_gravity_offsets=offsets,
         rest_gravity_removed=bool(offsets) and opts.rest_gravity_correction,
+        fit_band=FitBand(capped=tuple(sorted(capped))),
     )
+    return _Fit(cal, probes)
+
+
+@dataclass(frozen=True)
+class _Probes:
+    """What the cut-off and split-half probes of one fit refit (records: no estimate changes).
+
+    They run only on the fit that is kept (:meth:`recorded`), after the aligned form and the
+    knee line, which leave the probed sides of the centres as they are.
+
+    Attributes:
+        setup: ``{joint: (parent sensor, child sensor, prior, keep mask)}`` of the hip and ankle fits.
+        data: ``{joint: pair data}`` the hip and ankle were fitted on.
+        limits: ``{joint: Hz or None}`` their impact cut-off limits.
+        acc: ``{sensor: (N, 3)}`` the fit's accelerometers, m/s².
+        gyr: ``{sensor: (N, 3)}`` its gyros, rad/s.
+        sig: its prepared signals.
+        method: the calibration method.
+        opts: the fit's options.
+    """
+
+    setup: Mapping[str, tuple[str, str, CenterPrior | None, ArrayLike | None]]
+    data: Mapping[str, SphericalData]
+    limits: Mapping[str, float | None]
+    acc: dict[str, FloatArray]
+    gyr: dict[str, FloatArray]
+    sig: PreparedSignals
+    method: str
+    opts: CalibrationOptions
+
+    def recorded(self, cal: LegCalibration) -> LegCalibration:
+        """``cal`` with its hip and ankle probes recorded and warned about (as the options ask)."""
+        hip, ankle, o = cal.hip, cal.ankle, self.opts
+        if o.cutoff_probe:
+            hip, ankle = _probe_cutoffs(
+                hip, ankle, self.setup, self.limits, self.acc, self.gyr, self.sig, self.method, o
+            )
+        if o.split_half_probe:
+            hip, ankle = (
+                _probe_halves(j, self.data[j.joint], self.setup[j.joint], self.sig.n_still, self.method, o)
+                for j in (hip, ankle)
+            )
+        return replace(cal, hip=hip, ankle=ankle)
+
+
+@dataclass(frozen=True)
+class _Fit:
+    """One fit of a leg: its calibration without the probes, and the probes to record on it if kept."""
+
+    cal: LegCalibration
+    probes: _Probes
 
 
 def _aligned(
