@@ -99,7 +99,34 @@ def measure(trial: Path, repeats: int) -> dict[str, object]:
 
     for r in cold + warm:
         r["total"] = total(r)
-    return {"cold": best(cold, "process wall"), "warm": best(warm, "total"), "load_avg": os.getloadavg()}
+    return {
+        "cold": best(cold, "process wall"),
+        "warm": best(warm, "total"),
+        "load_avg": os.getloadavg(),
+        "machine_reference_s": machine_reference(),
+    }
+
+
+def machine_reference() -> float:
+    """Seconds of a fixed workload (a Python loop and small NumPy solves), best of 3.
+
+    Machines and days differ by up to 2× on the same code: this figure, in every table, says
+    how fast the machine was, so that tables from different days can be compared.
+    """
+    import numpy as np
+
+    rng = np.random.default_rng(0)
+    a = rng.standard_normal((200, 200)) + 200 * np.eye(200)
+    times = []
+    for _ in range(3):
+        t = time.perf_counter()
+        total = 0
+        for i in range(2_000_000):
+            total += i & 7
+        for _ in range(200):
+            np.linalg.solve(a, a[:, 0])
+        times.append(time.perf_counter() - t)
+    return min(times)
 
 
 def simulated_walk(minutes: float, folder: Path) -> Path:
@@ -112,7 +139,7 @@ def simulated_walk(minutes: float, folder: Path) -> Path:
     return path
 
 
-def report(results: dict[str, dict[str, object]], repeats: int) -> str:
+def report(results: dict[str, dict[str, object]], repeats: int, note: str = "") -> str:
     lines = [
         "# Pipeline speed: one simulated walk end to end, every output written",
         "",
@@ -145,6 +172,10 @@ def report(results: dict[str, dict[str, object]], repeats: int) -> str:
     lines.append("| **real-time factor (cpu)** | " + " | ".join(cells) + " |")
     loads = " | ".join(f"{r['load_avg'][0]:.1f} | " for r in results.values())  # type: ignore[index]
     lines.append(f"| load average (1 min) | {loads}")
+    refs = " | ".join(f"{r['machine_reference_s']:.2f} | " for r in results.values())  # type: ignore[index]
+    lines.append(f"| machine reference (s, lower is faster) | {refs}")
+    if note:
+        lines += ["", note]
     return "\n".join(lines) + "\n"
 
 
@@ -155,6 +186,7 @@ def main() -> None:
     ap.add_argument("--data", type=Path, default=Path(tempfile.gettempdir()) / "lowerlimb_bench")
     ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
     ap.add_argument("--name", default="pipeline_speed", help="results file stem")
+    ap.add_argument("--note", default="", help="a paragraph written under the table")
     ap.add_argument("--one", type=Path, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.one:
@@ -162,7 +194,7 @@ def main() -> None:
         return
     args.data.mkdir(parents=True, exist_ok=True)
     results = {f"{m:g}": measure(simulated_walk(m, args.data), args.repeats) for m in args.minutes}
-    md = report(results, args.repeats)
+    md = report(results, args.repeats, args.note)
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / f"{args.name}.md").write_text(md)
     (args.out / f"{args.name}.json").write_text(json.dumps(results, indent=1))
