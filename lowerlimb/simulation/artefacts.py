@@ -20,7 +20,14 @@ The model, per sensor (segment frame: x anterior, y along the bone, z right):
    bone's acceleration at the sensor (the rigid motion, without gravity, plus
    the impact mode), scaled by ``tissue_gain``. The tissue displacement also
    rocks the sensor: rotation ``rock_rad_per_m[segment] · n × δ`` with ``n`` the skin
-   normal (the sensor's z axis).
+   normal (the sensor's z axis). Each mass is also driven by a force of its own
+   (``tissue_random_mps2``: white, independent per sensor and axis, its RMS following
+   the segment's own acceleration, so that it is silent at rest): muscle activation,
+   the strap and the stride-to-stride variability that make real soft-tissue wobble
+   incoherent between two sensors of one joint. Without it every artefact is a linear
+   response to the shared gait and impacts, and the two accelerometer norms of a joint
+   stay coherent to 15 Hz, where the real walk's fall below 0.3 from 3–5 Hz
+   (``benchmarks/results/sim_signatures.md``).
 3. **Skin twist.** The sensor turns about the bone's long axis (segment y) with
    the flexion of the joint whose muscles slide under it (the thigh's and the
    shank's with the knee, the pelvis's with the hip, the foot's with the
@@ -73,6 +80,8 @@ class Artefacts:
         tissue_freq_hz: natural frequency of the wobbling mass under each sensor, Hz.
         tissue_damping: damping ratio of the wobbling mass.
         tissue_gain: fraction of the bone acceleration that excites the tissue.
+        tissue_random_mps2: RMS of each wobbling mass's own random force per axis while
+            walking, m/s² (scaled by the segment's smoothed acceleration over its RMS).
         rock_rad_per_m: sensor rotation per tissue/skin displacement, per segment, rad/m.
         skin_quadratic_m_per_rad2: norm of the quadratic skin-motion
             coefficient per driving joint angle, m/rad².
@@ -102,6 +111,7 @@ class Artefacts:
     tissue_freq_hz: dict[str, float] = field(default_factory=lambda: _per_segment(10.0, 9.0, 12.0, 25.0))
     tissue_damping: dict[str, float] = field(default_factory=lambda: _per_segment(0.3, 0.25, 0.25, 0.4))
     tissue_gain: dict[str, float] = field(default_factory=lambda: _per_segment(0.0, 0.0, 0.0, 0.0))
+    tissue_random_mps2: dict[str, float] = field(default_factory=lambda: _per_segment(0.0, 0.0, 0.0, 0.0))
     rock_rad_per_m: dict[str, float] = field(default_factory=lambda: _per_segment(0.0, 0.0, 0.0, 0.0))
     skin_quadratic_m_per_rad2: dict[str, float] = field(
         default_factory=lambda: _per_segment(0.0, 0.0, 0.0, 0.0)

@@ -95,6 +95,26 @@ def msd_response(
     return x, v, a
 
 
+def own_force(bone_acc: FloatArray, rate_hz: float, rms_mps2: float, rng: np.random.Generator) -> FloatArray:
+    """A wobbling mass's own random force (N, 3), m/s²: white per axis, silent at rest.
+
+    Its RMS per axis is ``rms_mps2`` where the segment's acceleration, smoothed over half
+    a second, is at its RMS, and follows that envelope elsewhere (zero while standing).
+
+    Args:
+        bone_acc: (N, 3) rigid acceleration of the sensor point without gravity, m/s².
+        rate_hz: sampling rate, Hz.
+        rms_mps2: RMS per axis at the segment's typical acceleration, m/s².
+        rng: the profile's random stream.
+    """
+    norm = np.linalg.norm(bone_acc, axis=1)
+    width = max(1, int(round(0.5 * rate_hz)))
+    env = np.convolve(norm, np.ones(width) / width, mode="same")
+    scale = float(np.sqrt(np.mean(env**2)))
+    env = env / scale if scale > 0.0 else env
+    return np.asarray(rms_mps2 * env[:, None] * rng.standard_normal(bone_acc.shape))
+
+
 def _saturating(theta: FloatArray, sat: float) -> tuple[FloatArray, FloatArray, FloatArray]:
     """f(θ) = sat·tanh(θ/sat) and its first and second derivatives with respect to θ."""
     th = np.tanh(theta / sat)
@@ -183,6 +203,8 @@ def compute_tissue_motion(
         b, b_v, b_a = msd_response(force[:, None], rate_hz, params.bone_freq_hz[sensor], params.bone_damping)
         d_b, v_b, a_b = b * direction, b_v * direction, b_a * direction
         u = -params.tissue_gain[sensor] * (bone_acc_seg[sensor] + a_b)
+        if params.tissue_random_mps2[sensor] > 0.0:
+            u = u + own_force(bone_acc_seg[sensor], rate_hz, params.tissue_random_mps2[sensor], rng)
         d_t, v_t, a_t = msd_response(u, rate_hz, params.tissue_freq_hz[sensor], params.tissue_damping[sensor])
         # the sensor rocks on the tissue: rotation about n × (shear displacement)
         n = skin_normal_seg[sensor]

@@ -1,0 +1,307 @@
+"""Does the seven-IMU simulator's realism profile look like the real walk where the calibration looks?
+
+``sim_realism.py`` matched band powers on the one-leg simulator. This benchmark compares what
+the calibration itself reads, all of it measurable without a truth, on the real walk of
+``gait/`` (both legs, as one-leg trials) and on seven-IMU simulated walks at the real walk's
+pace (``simulate_bilateral(pace="slow")``, seeds 201–203, 60 s) under several profiles:
+
+* **signals** (after the standing start): accelerometer and gyro band power in 3–10 Hz
+  (sum over the axes of each axis's Welch density, integrated; (m/s²)², (rad/s)²) per
+  segment; the magnitude-squared coherence of a joint's two accelerometer norms, mean over
+  3–10 Hz (soft-tissue wobble that is a sensor's own lowers it; an artefact that is a linear
+  response to the shared gait and impacts does not), and the rigid-band edge the calibration
+  finds from it (:func:`lowerlimb.constraints.prefilter.rigid_band_hz`, Hz; "none": the
+  coherence never falls, the joint is not capped);
+* **calibration** (``calibrate_leg``, the coherent-band fit): each pair's rigid-band cap, the
+  knee axis's elevation mismatch between thigh and shank sensor at standing (degrees), how far
+  the hip and ankle centres move with the cut-off (cut-off probe) and between the recording's
+  halves (split-half probe), mm, the worst coordinate of the two sensors;
+* **errors**: thigh and shank length against Plug-in Gait (real) or the truth (simulated), mm.
+
+Profiles: ``rigid`` (no artefacts), ``real_walk`` (:meth:`Artefacts.real_walk`), ``synchronised``
+(the same without clock offsets: the real walk's Xsens Awinda sensors are synchronised, and this
+path has no clock search), and ``synchronised`` with each wobbling mass's own random force
+(:attr:`Artefacts.tissue_random_mps2`) at 3 and 6 m/s² on pelvis, thighs and shanks, with the
+profile's shared artefacts (tissue gain, impacts) as they are or halved.
+
+Usage: ``python benchmarks/sim_signatures.py [--data ../shared/data] [--seeds 201 202 203]
+[--out benchmarks/results]``; writes ``sim_signatures.{md,json}``.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import argparse
+import dataclasses
+import sys
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from scipy.signal import welch
+
+import lowerlimb as ll
+from lowerlimb.calibration.knee_line import standing_axis_mismatch
+from lowerlimb.calibration.leg import LegCalibration, calibrate_leg
+from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.constraints.prefilter import rigid_band_hz, welch_spectra
+from lowerlimb.io.trial import ImuTrial
+from lowerlimb.model.fallback import segment_lengths
+from lowerlimb.simulation import Artefacts, simulate_bilateral
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+from _realwalk import leg_mapping, load_vicon, raw_dir  # noqa: E402
+from _results import write_results  # noqa: E402
+from gait import true_leg  # noqa: E402
+
+SEGMENTS = ("pelvis", "thigh", "shank", "foot")
+PAIRS = (("pelvis", "thigh"), ("thigh", "shank"), ("shank", "foot"))
+BAND_HZ = (3.0, 10.0)
+RATE_HZ = 100.0
+
+
+def _scaled(d: dict[str, float], k: float) -> dict[str, float]:
+    return {s: v * k for s, v in d.items()}
+
+
+def _own(level: float, shared: float) -> Callable[[int], Artefacts]:
+    def make(seed: int) -> Artefacts:
+        base = dataclasses.replace(Artefacts.real_walk(seed=seed), clock_offset_std_s=0.0)
+        return dataclasses.replace(
+            base,
+            tissue_random_mps2={"pelvis": level, "thigh": level, "shank": level, "foot": 0.0},
+            tissue_gain=_scaled(base.tissue_gain, shared),
+            impact_mps2=_scaled(base.impact_mps2, shared),
+            impact_contra_mps2=_scaled(base.impact_contra_mps2, shared),
+        )
+
+    return make
+
+
+#: name → the profile of a seed (``None``: rigid sensors).
+PROFILES: dict[str, Callable[[int], Artefacts | None]] = {
+    "rigid": lambda seed: None,
+    "real_walk": lambda seed: Artefacts.real_walk(seed=seed),
+    "synchronised": lambda seed: dataclasses.replace(Artefacts.real_walk(seed=seed), clock_offset_std_s=0.0),
+    "own 3": _own(3.0, 1.0),
+    "own 6": _own(6.0, 1.0),
+    "own 3, shared ½": _own(3.0, 0.5),
+    "own 6, shared ½": _own(6.0, 0.5),
+}
+
+
+CONCLUSION = """What this says (seeds 201–203; the conclusion is written by hand from the tables):
+
+1. **The profile's wobble is not the sensors' own.** Every artefact of
+   `Artefacts.real_walk` is a linear response of a sensor's tissue to the shared gait and
+   impacts, so a joint's two accelerometer norms stay coherent over 3–10 Hz (0.52 / 0.84 /
+   0.88 against the real walk's 0.22 / 0.42 / 0.33). The rigid band that the calibration reads
+   from that coherence is not found on 4 of 6 hips and on every knee, those pairs go uncapped
+   (the knee at 12.5 Hz where the real walk's is capped at 3.5 Hz), and the legs come out
+   0.1–0.4 m off. A real walk's pairs are capped; nothing in the real walk looks like this.
+2. **A force of each wobbling mass's own** (`Artefacts.tissue_random_mps2`, new: white,
+   independent per sensor, silent at rest) brings the coherence and the caps to the real walk's
+   (3 m/s² with the shared artefacts halved: 0.16 / 0.38 / 0.58, caps 4.7 / 4.7 / 10.2 Hz
+   against 3.5 / 3.5 / 6.3), the hip's cut-off shift to the real walk's (22 against 21 mm) and
+   the thigh error from 240 to 63 mm median (against `synchronised`, the same clocks).
+3. **It does not make the simulated walk the real one.** The 3–10 Hz accelerometer power stays
+   2.8–4.4 times the real walk's on every segment (the rigid simulator's foot alone carries 3.6
+   times the real foot's, its shank 1.7 times); the ankle moves 67–107 mm with the cut-off where
+   the real ankle moves 5 mm (16 mm on rigid sensors); the knee axis seen from thigh and shank
+   differs by 2.5–4.5° at standing against 17.9°; and the legs stay 6–7 cm off (median, 13 cm
+   worst) where the real walk's lie within 3 cm of Plug-in Gait.
+
+So `Artefacts.real_walk` stays as it is, a harsher-than-real stress case whose figures
+(`*_artefacts.md`) are a worst case, not a prediction of a real walk's error. Before it is
+re-tuned, the rigid seven-IMU gait's foot and shank must be as smooth as the real walk's, and
+one profile must match every column here; then every `*_artefacts` benchmark is re-run once."""
+
+
+def band_power(x: np.ndarray) -> float:
+    """Total power of (N, 3) ``x`` in :data:`BAND_HZ` (sum over the axes), unit²."""
+    f, P = welch(x - x.mean(axis=0), RATE_HZ, nperseg=256, axis=0)
+    sel = (f >= BAND_HZ[0]) & (f < BAND_HZ[1])
+    return float(P[sel].sum() * (f[1] - f[0]))
+
+
+def norm_coherence(acc_a: np.ndarray, acc_b: np.ndarray) -> float:
+    """Mean magnitude-squared coherence of two accelerometer norms over :data:`BAND_HZ`."""
+    a, b = np.linalg.norm(acc_a, axis=1), np.linalg.norm(acc_b, axis=1)
+    f, Paa, Pbb, Pab = welch_spectra(a - a.mean(), b - b.mean(), RATE_HZ, 128)
+    sel = (f >= BAND_HZ[0]) & (f <= BAND_HZ[1])
+    return float(np.mean(np.abs(Pab[sel]) ** 2 / Paa[sel] / Pbb[sel]))
+
+
+def signal_signature(trial: ImuTrial) -> dict[str, Any]:
+    """Band powers per segment and each joint's norm coherence and rigid-band edge, after standing."""
+    start = trial.still_period().samples(CalibrationOptions().still_min_s)
+    acc = {s: np.asarray(trial.acc[s], dtype=float) for s in SEGMENTS}
+    gyr = {s: np.asarray(trial.gyr[s], dtype=float) for s in SEGMENTS}
+    out: dict[str, Any] = {
+        "acc_power": {s: band_power(acc[s][start:]) for s in SEGMENTS},
+        "gyr_power": {s: band_power(gyr[s][start:]) for s in SEGMENTS},
+        "coherence": {},
+        "edge_hz": {},
+    }
+    for p, c in PAIRS:
+        out["coherence"][f"{p}-{c}"] = norm_coherence(acc[p], acc[c])
+        out["edge_hz"][f"{p}-{c}"] = rigid_band_hz(acc[p], acc[c], RATE_HZ)
+    return out
+
+
+def _worst_mm(x: np.ndarray) -> float:
+    a = np.abs(np.asarray(x, dtype=float))
+    return float(1000.0 * np.nanmax(a)) if np.isfinite(a).any() else float("nan")
+
+
+def calibration_signature(trial: ImuTrial) -> tuple[LegCalibration, dict[str, Any]]:
+    """The leg's calibration and what it reads without a truth (module docstring)."""
+    options = CalibrationOptions()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cal = calibrate_leg(trial, options=options)
+    coherent = cal.coherent_fit or cal
+    n = max(1, trial.still_period().samples(options.still_min_s))
+    up = {s: np.asarray(trial.acc[s][:n], dtype=float).mean(axis=0) for s in ("thigh", "shank")}
+    mismatch = float(np.degrees(standing_axis_mismatch(coherent.knee, up["thigh"], up["shank"])))
+    return cal, {
+        "caps_hz": dict(coherent.rigid_band_cap_hz),
+        "mismatch_deg": mismatch,
+        "cutoff_shift_mm": {j: _worst_mm(getattr(cal, j).cutoff_shift) for j in ("hip", "ankle")},
+        "split_half_mm": {j: _worst_mm(getattr(cal, j).split_half_shift) for j in ("hip", "ankle")},
+        "widened": cal.fit_band.widened,
+    }
+
+
+def real_rows(data: Path) -> list[dict[str, Any]]:
+    """Both real legs: signatures and length errors against Plug-in Gait."""
+    vicon = load_vicon(data)
+    rows = []
+    for side in ("left", "right"):
+        P = side[0].upper()
+        ref = [
+            float(np.nanmedian(np.linalg.norm(vicon[P + a] - vicon[P + b], axis=1)))
+            for a, b in (("HJC", "KJC"), ("KJC", "AJC"))
+        ]
+        trial = ll.read_xsens(raw_dir(data), leg_mapping(side), side=side)
+        cal, sig = calibration_signature(trial)
+        err = [1000.0 * v - r for v, r in zip(segment_lengths(cal), ref, strict=True)]
+        rows.append({"source": "real", "side": side, **signal_signature(trial), **sig, "error_mm": err})
+        print("real", side, np.round(err, 1), flush=True)
+    return rows
+
+
+def sim_rows(seeds: list[int]) -> list[dict[str, Any]]:
+    """Every profile on every seed, the left leg's signals and both legs' calibrations."""
+    rows = []
+    for name, make in PROFILES.items():
+        for seed in seeds:
+            sim = simulate_bilateral(60.0, seed, artefacts=make(seed), pace="slow")
+            for side in ("left", "right"):
+                trial = sim.trial.leg(side)
+                cal, sig = calibration_signature(trial)
+                truth = segment_lengths(true_leg(sim.truth["legs"][side]["joints"]))  # type: ignore[arg-type]
+                err = [1000.0 * (e - t) for e, t in zip(segment_lengths(cal), truth, strict=True)]
+                row = {"source": name, "seed": seed, "side": side, **signal_signature(trial), **sig}
+                rows.append(row | {"error_mm": err})
+                print(name, seed, side, np.round(err, 1), flush=True)
+    return rows
+
+
+def _med(rows: list[dict[str, Any]], get: Callable[[dict[str, Any]], float | None]) -> float:
+    vals = [get(r) for r in rows]
+    a = np.array([np.nan if v is None else v for v in vals], dtype=float)
+    return float(np.nanmedian(a)) if np.isfinite(a).any() else float("nan")
+
+
+def _cell(x: float, fmt: str = ".2f") -> str:
+    return "none" if not np.isfinite(x) else format(x, fmt)
+
+
+def _edge_cell(rows: list[dict[str, Any]], key: str, field: str) -> str:
+    vals = [r[field][key] for r in rows]
+    if all(v is None for v in vals):
+        return "none"
+    finite = [v for v in vals if v is not None]
+    tail = f" ({len(vals) - len(finite)}/{len(vals)} none)" if len(finite) < len(vals) else ""
+    return f"{np.median(finite):.1f}{tail}"
+
+
+def markdown(res: dict[str, Any]) -> str:
+    """The tables (medians over the rows of each source)."""
+    groups: dict[str, list[dict[str, Any]]] = {}
+    for r in res["rows"]:
+        groups.setdefault(r["source"], []).append(r)
+    pk = [f"{p}-{c}" for p, c in PAIRS]
+    L = [
+        "# Simulator vs real walk: what the calibration reads",
+        "",
+        "Generated by `benchmarks/sim_signatures.py` (definitions in its docstring). Real: `gait/` S02 "
+        "Walk-1, each leg as a one-leg trial. Simulated: seven-IMU walks at the real pace "
+        f'(`pace="slow"`), seeds {", ".join(map(str, res["seeds"]))}, both legs, 60 s. Medians over '
+        "the legs of each source.",
+        "",
+        "## Signals after the standing start (3–10 Hz)",
+        "",
+        "| source | acc power pelvis / thigh / shank / foot | gyro power pelvis / thigh / shank / foot | "
+        "norm coherence " + " / ".join(pk) + " | rigid-band edge, Hz |",
+        "|---|---|---|---|---|",
+    ]
+    for name, rows in groups.items():
+        acc = " / ".join(_cell(_med(rows, lambda r, s=s: r["acc_power"][s]), ".1f") for s in SEGMENTS)
+        gyr = " / ".join(_cell(_med(rows, lambda r, s=s: r["gyr_power"][s])) for s in SEGMENTS)
+        coh = " / ".join(_cell(_med(rows, lambda r, k=k: r["coherence"][k])) for k in pk)
+        edge = " / ".join(_edge_cell(rows, k, "edge_hz") for k in pk)
+        L.append(f"| {name} | {acc} | {gyr} | {coh} | {edge} |")
+    L += [
+        "",
+        "## Calibration (coherent-band fit) and errors",
+        "",
+        "| source | caps " + " / ".join(pk) + ", Hz | knee axis mismatch at standing, ° (abs) | "
+        "cut-off shift hip / ankle, mm | split-half shift hip / ankle, mm | thigh / shank error, mm "
+        "(median abs; worst) |",
+        "|---|---|---|---|---|---|",
+    ]
+    for name, rows in groups.items():
+        caps = " / ".join(_edge_cell(rows, k, "caps_hz") for k in pk)
+        mism = _cell(_med(rows, lambda r: abs(r["mismatch_deg"])), ".1f")
+        cut = " / ".join(
+            _cell(_med(rows, lambda r, j=j: r["cutoff_shift_mm"][j]), ".0f") for j in ("hip", "ankle")
+        )
+        half = " / ".join(
+            _cell(_med(rows, lambda r, j=j: r["split_half_mm"][j]), ".0f") for j in ("hip", "ankle")
+        )
+        errs = []
+        for i in (0, 1):
+            a = np.abs([r["error_mm"][i] for r in rows])
+            errs.append(f"{np.median(a):.0f}; {a.max():.0f}")
+        signed = (
+            " / ".join(f"{r['error_mm'][0]:+.0f}, {r['error_mm'][1]:+.0f}" for r in rows)
+            if name == "real"
+            else ""
+        )
+        err_cell = " / ".join(errs) + (f" (left, right: {signed})" if signed else "")
+        L.append(f"| {name} | {caps} | {mism} | {cut} | {half} | {err_cell} |")
+    L += ["", res.get("conclusion", ""), ""]
+    return "\n".join(L)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
+    ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
+    ap.add_argument("--seeds", type=int, nargs="+", default=[201, 202, 203])
+    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
+    args = ap.parse_args()
+    rows = real_rows(args.data) + sim_rows(args.seeds)
+    res = {"seeds": args.seeds, "rows": rows, "conclusion": CONCLUSION}
+    write_results(args.out, "sim_signatures", res, markdown(res))
+
+
+if __name__ == "__main__":
+    main()
