@@ -219,3 +219,20 @@ def test_the_forefoot_loads_before_toe_off_at_a_slow_pace_too(pace):
     for to in sim.feet["left"].events.toe_off_s[2:-1]:
         before = (t > to - 0.06) & (t <= to)
         assert f[before].max() > 13.0
+
+
+def test_a_vibrating_limb_moves_the_joints_rigidly_while_walking_only():
+    calm = simulate_bilateral(12.0, 7, noise=ImuNoise.none())
+    shaky = simulate_bilateral(12.0, 7, noise=ImuNoise.none(), limb_vibration_deg=0.3)
+    d = np.rad2deg(shaky.angles_rad - calm.angles_rad)
+    standing = slice(0, int(1.4 * 100))
+    walking = slice(400, None)
+    assert np.abs(d[standing]).max() < 1e-9
+    for side in range(2):
+        leg = d[walking, 9 * side : 9 * side + 9]
+        moving = [0, 1, 2, 3, 6, 7, 8]  # hip, knee flexion, ankle
+        np.testing.assert_allclose(leg[:, moving].std(axis=0), 0.3, rtol=0.2)
+        assert np.abs(leg[:, 4:6]).max() < 1e-12  # the knee stays a hinge
+    # the sensors follow the vibration: faster signals, the same placements and joint centres
+    assert np.abs(shaky.trial.gyr["left_shank"][walking] - calm.trial.gyr["left_shank"][walking]).max() > 0.05
+    assert shaky.truth["legs"] == calm.truth["legs"]
