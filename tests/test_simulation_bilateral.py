@@ -236,3 +236,11 @@ def test_a_vibrating_limb_moves_the_joints_rigidly_while_walking_only():
     # the sensors follow the vibration: faster signals, the same placements and joint centres
     assert np.abs(shaky.trial.gyr["left_shank"][walking] - calm.trial.gyr["left_shank"][walking]).max() > 0.05
     assert shaky.truth["legs"] == calm.truth["legs"]
+
+
+def test_a_limb_vibration_can_be_given_per_joint():
+    calm = simulate_bilateral(8.0, 7, noise=ImuNoise.none())
+    hip_only = simulate_bilateral(8.0, 7, noise=ImuNoise.none(), limb_vibration_deg=(0.2, 0.0, 0.0))
+    d = np.rad2deg(hip_only.angles_rad - calm.angles_rad)[400:]
+    np.testing.assert_allclose(d[:, 0:3].std(axis=0), 0.2, rtol=0.25)
+    assert np.abs(d[:, 3:9]).max() < 1e-9  # the knee and ankle angles are those of the calm walk

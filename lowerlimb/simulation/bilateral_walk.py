@@ -279,19 +279,24 @@ def _foot_points(leg: LegModel) -> tuple[FloatArray, FloatArray, FloatArray]:
 
 
 def limb_vibration(
-    n: int, rate_hz: float, walking: FloatArray, rms_deg: float, rng: np.random.Generator
+    n: int,
+    rate_hz: float,
+    walking: FloatArray,
+    rms_deg: float | tuple[float, float, float],
+    rng: np.random.Generator,
 ) -> FloatArray:
     """A rigid vibration of one leg's joint angles (N, 9), rad, in the two-leg angle order.
 
     Band-limited white noise (4–12 Hz, zero-phase Butterworth; below the Nyquist frequency
-    when the rate is low), scaled to ``rms_deg`` per angle and by ``walking`` (0 standing,
-    1 walking). The knee moves about its hinge only: its adduction and rotation stay zero.
+    when the rate is low), scaled to ``rms_deg`` per angle (one value, or hip, knee, ankle)
+    and by ``walking`` (0 standing, 1 walking). The knee moves about its hinge only: its
+    adduction and rotation stay zero.
 
     Args:
         n: number of samples.
         rate_hz: sampling rate, Hz.
         walking: (N,) weight of the vibration, 0–1.
-        rms_deg: RMS per angle while walking, degrees.
+        rms_deg: RMS per angle while walking, degrees (one value, or per joint: hip, knee, ankle).
         rng: the vibration's random stream.
     """
     from scipy.signal import butter, sosfiltfilt
@@ -299,7 +304,8 @@ def limb_vibration(
     high = min(12.0, 0.45 * rate_hz)
     sos = butter(4, [4.0, high], btype="band", fs=rate_hz, output="sos")
     x = sosfiltfilt(sos, rng.standard_normal((n, 9)), axis=0)
-    x *= np.deg2rad(rms_deg) / np.maximum(x.std(axis=0, keepdims=True), 1e-12)
+    per_joint = np.broadcast_to(np.asarray(rms_deg, dtype=float), (3,))
+    x *= np.deg2rad(np.repeat(per_joint, 3)) / np.maximum(x.std(axis=0, keepdims=True), 1e-12)
     x[:, 4:6] = 0.0  # knee adduction and rotation: the knee is a hinge
     return np.asarray(x * np.asarray(walking, dtype=float)[:, None])
 
@@ -433,7 +439,7 @@ def simulate_bilateral(
     lab_field: LabField | None = LAB_FIELD,
     pace_changes: bool = False,
     pace: str = "normal",
-    limb_vibration_deg: float = 0.0,
+    limb_vibration_deg: float | tuple[float, float, float] = 0.0,
 ) -> BilateralSimulation:
     """Simulate a seven-IMU walk (pelvis, both thighs, shanks and feet) with known truth.
 
@@ -464,7 +470,8 @@ def simulate_bilateral(
             :data:`~lowerlimb.simulation.footsteps.PACE_RANGES`. A seed's other draws are the
             same at every pace.
         limb_vibration_deg: RMS of a rigid 4–12 Hz vibration of every joint angle (hip and
-            ankle about all three axes, the knee about its hinge) while walking, degrees: the
+            ankle about all three axes, the knee about its hinge) while walking, degrees, one
+            value or one per joint (hip, knee, ankle): the
             limb's own fast motion, which the sensors follow rigidly and the truth's angles
             include (:func:`limb_vibration`; its own random stream). An experiment, not part of
             any profile: it also moves the feet in stance. ``benchmarks/sim_signatures.py``
@@ -505,7 +512,7 @@ def simulate_bilateral(
         hip_rot = np.deg2rad(d.hip_rotation_deg) * np.sin(2 * np.pi * u - 0.8) * ramp
         angles = solve_leg(legs[s], root, hip_rot, feet[s].ankle_m, feet[s].rotation)
         Q[s] = np.hstack([root, angles])
-    if limb_vibration_deg > 0.0:
+    if np.any(np.asarray(limb_vibration_deg) > 0.0):
         vib_rng = np.random.default_rng([seed, 13])
         for s in SIDES:
             Q[s][:, 7:] += limb_vibration(t.size, rate_hz, ramp, limb_vibration_deg, vib_rng)
