@@ -174,6 +174,7 @@ def score_simulation(
     rate_hz: float = 100.0,
     gait_params: GaitParams | None = None,
     pace: str = "normal",
+    knee_rotation: float = 0.0,
 ) -> dict[str, Any]:
     """One simulated walk through the two-leg pipeline, scored against its truth.
 
@@ -181,9 +182,11 @@ def score_simulation(
     ``uniform_field`` replaces the lab's magnetic field by one uniform field (9-axis fusion);
     ``calibration_options`` and ``gait_params`` are passed to the pipeline (``None``: the
     defaults); ``rate_hz`` is the simulated sampling rate; ``pace`` the walker's
-    (``normal`` or ``slow``, :data:`lowerlimb.simulation.footsteps.PACE_RANGES`).
+    (``normal`` or ``slow``, :data:`lowerlimb.simulation.footsteps.PACE_RANGES`);
+    ``knee_rotation`` the knees' internal rotation per rad of flexion (0: hinges).
     """
     kw: dict[str, Any] = {"lab_field": None} if uniform_field else {}
+    kw["knee_rotation_per_flexion"] = knee_rotation
     sim = simulate_bilateral(duration_s, seed, artefacts=artefacts, rate_hz=rate_hz, pace=pace, **kw)
     t0 = time.perf_counter()
     refused = one_pelvis_refused = False
@@ -278,11 +281,18 @@ def _fmt(x: float, unit: str = "") -> str:
 
 
 def _pace_text(sim: dict[str, Any]) -> str:
-    """``"slow pace (…), "`` for a slow walker, else ``""``."""
+    """``"slow pace (…), "`` for a slow walker, ``"knees that turn … "`` for non-hinge knees, else ``""``."""
+    knee = sim.get("knee_rotation_per_flexion", 0.0)
+    out = (
+        f"**knees that turn inwards as they flex** (`knee_rotation_per_flexion={knee:g}`: no hinge; "
+        "the truth's knee axis is the flexion axis), "
+        if knee
+        else ""
+    )
     if sim.get("pace", "normal") == "normal":
-        return ""
+        return out
     r = PACE_RANGES[sim["pace"]]
-    return (
+    return out + (
         f'**{sim["pace"]} pace** (`pace="{sim["pace"]}"`: {r.speed_m_s[0]:g}–{r.speed_m_s[1]:g} m/s, '
         f"stride {r.stride_time_s[0]:g}–{r.stride_time_s[1]:g} s, stance "
         f"{100 * r.stance_fraction[0]:.0f}–{100 * r.stance_fraction[1]:.0f} %), "
@@ -578,12 +588,25 @@ def main() -> None:
         help="the simulated walker's pace; slow (shuffle) writes gait_slow.{md,json} "
         "(gait_slow_artefacts with --artefacts real; the real walk is not re-run)",
     )
+    ap.add_argument(
+        "--knee-rotation",
+        type=float,
+        default=0.0,
+        help="knees that turn inwards by this many rad per rad of flexion, as real knees do (0.2: "
+        "about 11° over a stride; writes gait_knee_rotation.{md,json}; the real walk is not re-run)",
+    )
     args = ap.parse_args()
     if args.artefacts == "real":
         _main_artefacts(args)
         return
     trials = [
-        score_simulation(seed, args.duration, uniform_field=args.uniform_field, pace=args.pace)
+        score_simulation(
+            seed,
+            args.duration,
+            uniform_field=args.uniform_field,
+            pace=args.pace,
+            knee_rotation=args.knee_rotation,
+        )
         for seed in args.seeds
     ]
     res: dict[str, Any] = {
@@ -593,15 +616,19 @@ def main() -> None:
             "seeds": args.seeds,
             "duration_s": args.duration,
             "pace": args.pace,
+            "knee_rotation_per_flexion": args.knee_rotation,
             "pooled": summarise_simulation(trials),
             "trials": trials,
         },
     }
-    if (args.data / "gait").is_dir() and not args.uniform_field and args.pace == "normal":
+    variant = args.uniform_field or args.pace != "normal" or args.knee_rotation != 0.0
+    if (args.data / "gait").is_dir() and not variant:
         res["real"] = real(args.data)
     name = "gait_uniform_field" if args.uniform_field else "gait"
     if args.pace != "normal":
         name = f"gait_{args.pace}"
+    if args.knee_rotation != 0.0:
+        name = "gait_knee_rotation"
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / f"{name}.json").write_text(json.dumps(res, indent=1, default=float) + "\n")
     (args.out / f"{name}.md").write_text(markdown(res))

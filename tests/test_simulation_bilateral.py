@@ -244,3 +244,17 @@ def test_a_limb_vibration_can_be_given_per_joint():
     d = np.rad2deg(hip_only.angles_rad - calm.angles_rad)[400:]
     np.testing.assert_allclose(d[:, 0:3].std(axis=0), 0.2, rtol=0.25)
     assert np.abs(d[:, 3:9]).max() < 1e-9  # the knee and ankle angles are those of the calm walk
+
+
+def test_a_knee_that_turns_as_it_flexes_keeps_the_planned_feet():
+    hinge = simulate_bilateral(8.0, 7, noise=ImuNoise.none())
+    turning = simulate_bilateral(8.0, 7, noise=ImuNoise.none(), knee_rotation_per_flexion=0.2)
+    for side in range(2):
+        a = turning.angles_rad[:, 9 * side : 9 * side + 9]
+        np.testing.assert_allclose(a[:, 5], 0.2 * a[:, 3], atol=1e-12)  # rotation follows flexion
+        assert np.abs(a[:, 4]).max() < 1e-12  # no adduction
+        assert np.rad2deg(np.ptp(a[200:, 5])) > 6.0
+    # the rotation is about the shank's long axis: the ankle centres and the feet are where planned
+    for s in SIDES:
+        np.testing.assert_allclose(turning.ankle_m[s], hinge.ankle_m[s], atol=1e-8)
+    np.testing.assert_allclose(turning.angles_rad[:, 3], hinge.angles_rad[:, 3], atol=1e-8)

@@ -31,11 +31,16 @@ Gait) but moved the knee 8 cm along its axis: the ankle's sideways place in the 
 (12 → 102 mm median) with it. Both legs' sensors show that they are not rigid on the
 bone: the knee axis seen from the thigh and from the shank sensor differs by 17–18° in
 elevation at standing, where a hinge keeps it equal (the simulator's rigid sensors: 0.1°).
-That rule rests on one real recording. The threshold, 2°, is ten times the rigid
-simulator's mismatch (≤ 0.2°); with the simulator's real-walk artefacts (soft tissue,
-impacts) the legs show 0.1–7.8°, and one of them, widened with 4.9°, put its knee axis
-17.5° off (3.8° in the coherent band). There neither band gives lengths within
-centimetres (0.1–0.3 m off either way).
+That rule rests on one real recording. The threshold, 6°: an ideal hinge keeps the two
+estimates equal (the rigid simulator: ≤ 0.2°), but a real knee turns as it flexes. The
+simulator's knees that turn inwards by 0.2 rad per rad of flexion (about 11° over a stride)
+show 3–4° on rigid sensors; at the earlier threshold, 2°, their legs kept the coherent band
+(thigh −22 mm and shank −37 mm mean length error, step width 125 mm worst), at 6° they are
+widened (−12 and −20 mm, 44 mm; ``benchmarks/results/gait_knee_rotation.md``). The real
+walk's 17–24° stay far beyond it. With the simulator's real-walk artefacts, a worst case
+harsher than the real walk (``sim_signatures.md``), the legs show 0.1–7.8°, neither band gives
+lengths within centimetres, and the change from 2° to 6° is mixed there (``gait_artefacts.md``:
+initial contact 12.3 → 9.4 ms median, step width 98 → 83 mm, but thigh 50 → 64 mm).
 
 So :func:`~lowerlimb.calibration.leg.calibrate_leg` fits the leg in the coherent band, as
 the options give it, and then, where a coherent-band cap lowered a joint's cut-offs

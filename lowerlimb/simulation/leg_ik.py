@@ -8,8 +8,10 @@ distance (law of cosines), and the five remaining angles (hip flexion and adduct
 the three ankle angles) solve the six equations of the foot pose in the least-squares
 sense, by Gauss–Newton on the SE(3) log error (the closed-loop IK of Pinocchio's
 documentation, ``log6`` and ``Jlog6``) with a bounded step, warm-started from the
-previous sample. The knee's
-adduction and rotation stay zero: the true knee is a hinge.
+previous sample. The knee's adduction stays zero; its internal rotation is zero (a hinge) or
+coupled to its flexion (``knee_rotation_per_flexion``: the tibia turns inwards as the knee
+flexes, as a real knee does), about the shank's long axis, which holds the ankle centre, so
+the knee flexion's law of cosines stays exact.
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ __all__ = ["IKError", "solve_leg"]
 _SOLVED = np.array([0, 1, 6, 7, 8])
 _HIP_ROTATION = 2
 _KNEE = 3
+_KNEE_ROTATION = 5
 #: Largest Gauss–Newton step, rad (keeps each sample on the previous sample's branch).
 _MAX_STEP_RAD = 0.2
 #: Largest change of any angle between two samples before the solve counts as failed, rad.
@@ -71,6 +74,7 @@ def solve_leg(
     foot_pos_m: FloatArray,
     foot_rot: FloatArray,
     *,
+    knee_rotation_per_flexion: float = 0.0,
     tol: float = 1e-10,
     max_iter: int = 30,
 ) -> FloatArray:
@@ -82,6 +86,8 @@ def solve_leg(
         hip_rotation_rad: (N,) prescribed hip internal rotation, rad.
         foot_pos_m: (N, 3) foot segment frame origin (the ankle centre) in the world, m.
         foot_rot: (N, 3, 3) foot segment frame → world.
+        knee_rotation_per_flexion: knee internal rotation per unit of knee flexion, rad/rad
+            (0: a hinge).
         tol: Convergence threshold on the SE(3) log error norm.
         max_iter: Iterations per sample.
 
@@ -108,6 +114,7 @@ def solve_leg(
         q[nr + _KNEE] = _knee_guess(
             float(np.linalg.norm(foot_pos_m[k] - data.oMi[hip_j].translation)), lengths
         )
+        q[nr + _KNEE_ROTATION] = knee_rotation_per_flexion * q[nr + _KNEE]
         err = _newton(leg, q, idx, pin.SE3(foot_rot[k], foot_pos_m[k]), fid, local, tol, max_iter)
         if err > max(tol * 1e3, 1e-8) or (k > 0 and np.max(np.abs(q[nr:] - out[k - 1])) > _MAX_JUMP_RAD):
             raise IKError(k, err)
