@@ -258,3 +258,18 @@ def test_a_knee_that_turns_as_it_flexes_keeps_the_planned_feet():
     for s in SIDES:
         np.testing.assert_allclose(turning.ankle_m[s], hinge.ankle_m[s], atol=1e-8)
     np.testing.assert_allclose(turning.angles_rad[:, 3], hinge.angles_rad[:, 3], atol=1e-8)
+
+
+@pytest.mark.parametrize(
+    "kw",
+    [
+        {"limb_vibration_deg": -0.1},
+        {"limb_vibration_deg": float("nan")},
+        {"limb_vibration_deg": (0.1, 0.2)},
+        {"knee_rotation_per_flexion": float("nan")},
+        {"knee_rotation_per_flexion": 3.0},
+    ],
+)
+def test_a_bad_vibration_or_knee_rotation_is_refused_with_its_name(kw):
+    with pytest.raises(InputError, match=next(iter(kw))):
+        simulate_bilateral(8.0, 7, **kw)

@@ -490,7 +490,8 @@ def simulate_bilateral(
         A :class:`BilateralSimulation`.
 
     Raises:
-        InputError: too short a trial, a non-positive rate or an unknown pace.
+        InputError: too short a trial, a non-positive rate, an unknown pace, a negative or
+            non-finite limb vibration or a non-finite or implausible knee rotation.
     """
     t_start = time.perf_counter()
     if rate_hz <= 0 or duration_s < still_s + 4.0:
@@ -499,6 +500,17 @@ def simulate_bilateral(
         )
     if pace not in PACES:
         raise InputError(f"pace must be one of {', '.join(PACES)}, not {pace!r}")
+    vibration = np.atleast_1d(np.asarray(limb_vibration_deg, dtype=float))
+    if vibration.size not in (1, 3) or not np.all(np.isfinite(vibration) & (vibration >= 0.0)):
+        raise InputError(
+            "limb_vibration_deg must be one finite value ≥ 0 or three (hip, knee, ankle), "
+            f"not {limb_vibration_deg!r}"
+        )
+    if not np.isfinite(knee_rotation_per_flexion) or abs(knee_rotation_per_flexion) > 1.0:
+        raise InputError(
+            f"knee_rotation_per_flexion must be finite and within ±1 rad/rad (0.2: about 11° over a stride), "
+            f"not {knee_rotation_per_flexion!r}"
+        )
     noise = ImuNoise() if noise is None else noise
     rng = np.random.default_rng(seed)
     art = artefacts if artefacts is not None and artefacts.active else None
