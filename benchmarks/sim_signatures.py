@@ -52,7 +52,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy.signal import welch
 
 import lowerlimb as ll
 from lowerlimb.calibration.knee_line import standing_axis_mismatch
@@ -68,6 +67,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from _realwalk import leg_mapping, load_vicon, raw_dir  # noqa: E402
 from _results import write_results  # noqa: E402
 from gait import true_leg  # noqa: E402
+from sim_realism import BANDS_HZ, signal_stats  # noqa: E402
 
 SEGMENTS = ("pelvis", "thigh", "shank", "foot")
 PAIRS = (("pelvis", "thigh"), ("thigh", "shank"), ("shank", "foot"))
@@ -173,10 +173,8 @@ every `*_artefacts` benchmark is re-run once."""
 
 
 def band_power(x: np.ndarray) -> float:
-    """Total power of (N, 3) ``x`` in :data:`BAND_HZ` (sum over the axes), unit²."""
-    f, P = welch(x - x.mean(axis=0), RATE_HZ, nperseg=256, axis=0)
-    sel = (f >= BAND_HZ[0]) & (f < BAND_HZ[1])
-    return float(P[sel].sum() * (f[1] - f[0]))
+    """Total power of (N, 3) ``x`` in :data:`BAND_HZ` (sum over the axes), unit²: ``sim_realism``'s band."""
+    return float(signal_stats(x, RATE_HZ)["bands"][BANDS_HZ.index(BAND_HZ)])
 
 
 def norm_coherence(acc_a: np.ndarray, acc_b: np.ndarray) -> float:

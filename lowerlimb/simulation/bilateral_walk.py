@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 from scipy.interpolate import make_interp_spline
+from scipy.signal import butter, sosfiltfilt
 
 from ..conventions import (
     SENSORS,
@@ -299,8 +300,6 @@ def limb_vibration(
         rms_deg: RMS per angle while walking, degrees (one value, or per joint: hip, knee, ankle).
         rng: the vibration's random stream.
     """
-    from scipy.signal import butter, sosfiltfilt
-
     high = min(12.0, 0.45 * rate_hz)
     sos = butter(4, [4.0, high], btype="band", fs=rate_hz, output="sos")
     x = sosfiltfilt(sos, rng.standard_normal((n, 9)), axis=0)
