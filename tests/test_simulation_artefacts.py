@@ -11,6 +11,7 @@ import pytest
 from scipy.signal import welch
 
 from lowerlimb.conventions import GRAVITY_ENU, SENSORS, quat_from_matrix, quat_to_matrix, quat_to_rotvec
+from lowerlimb.errors import InputError
 from lowerlimb.simulation import Artefacts, ImuNoise, simulate
 
 #: sha256 of the default walk (seed 3, 6 s) rounded to 1e-6, recorded before the profile existed.
@@ -194,6 +195,34 @@ def test_skin_twist_turns_the_sensor_about_its_bone_with_knee_flexion():
     rigid = simulate("walk", 6.0, 2, rate_hz=1000.0, noise=ImuNoise.none())
     extra = sim.clean.gyr["thigh"] - rigid.clean.gyr["thigh"]
     assert np.sqrt(np.mean(np.sum(extra**2, axis=1))) > 0.5 * c * np.sqrt(np.mean(np.gradient(knee, dt) ** 2))
+
+
+@pytest.mark.parametrize("side", ["left", "right"])
+def test_skin_twist_driven_by_the_hip_is_an_internal_rotation_on_either_leg(side):
+    c = 0.3
+    art = _only(
+        skin_twist_rad_per_rad={"pelvis": 0.0, "thigh": c, "shank": 0.0, "foot": 0.0},
+        skin_twist_driver={"pelvis": "hip", "thigh": "hip", "shank": "knee", "foot": "ankle"},
+    )
+    sim = simulate("walk", 4.0, 3, side=side, rate_hz=200.0, noise=ImuNoise.none(), artefacts=art)
+    assert sim.artefacts is not None
+    hip = sim.angles_rad[:, 0]
+    # the thigh segment's long axis (+y) in the thigh sensor frame
+    q = np.asarray(sim.truth["sensors"]["thigh"]["quat_wxyz_in_segment"])
+    y_in_sensor = quat_to_matrix(q[None])[0].T @ np.array([0.0, 1.0, 0.0])
+    internal = y_in_sensor if side == "right" else -y_in_sensor
+    np.testing.assert_allclose(
+        sim.artefacts.rotation_rad["thigh"], c * np.outer(hip - hip.mean(), internal), atol=1e-12
+    )
+
+
+def test_an_unknown_skin_twist_driver_is_refused_by_name():
+    art = _only(
+        skin_twist_rad_per_rad={"pelvis": 0.0, "thigh": 0.1, "shank": 0.0, "foot": 0.0},
+        skin_twist_driver={"pelvis": "hip", "thigh": "pelvis", "shank": "knee", "foot": "ankle"},
+    )
+    with pytest.raises(InputError, match="skin_twist_driver.*'thigh'.*hip, knee, ankle"):
+        simulate("walk", 2.0, 3, noise=ImuNoise.none(), artefacts=art)
 
 
 def _norm_coherence(a: np.ndarray, b: np.ndarray, lo: float = 3.0, hi: float = 10.0) -> float:

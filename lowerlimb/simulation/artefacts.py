@@ -29,12 +29,16 @@ The model, per sensor (segment frame: x anterior, y along the bone, z right):
    stay coherent to 15 Hz, where the real walk's fall below 0.3 from 3–5 Hz
    (``benchmarks/results/sim_signatures.md``).
 3. **Skin twist.** The sensor turns about the bone's long axis (segment y) with
-   the flexion of the joint whose muscles slide under it (the thigh's and the
-   shank's with the knee, the pelvis's with the hip, the foot's with the
-   ankle): ``skin_twist_rad_per_rad[segment] · θ``. Thigh soft-tissue artefact
-   is mostly a rotation about the femur that grows with knee flexion
-   (Akbarshahi et al. 2010, J Biomech 43:1292–1301). It tilts the knee axis a
-   hinge fit finds in that sensor.
+   the flexion of a driving joint (``skin_twist_driver``: by default the thigh's and
+   the shank's with the knee, the pelvis's with the hip, the foot's with the ankle):
+   ``skin_twist_rad_per_rad[segment] · θ``, positive an internal rotation of the sensor
+   (its front turning medially) on either leg. It tilts the knee axis a hinge fit finds
+   in that sensor. Driven by the knee (Akbarshahi et al. 2010, J Biomech 43:1292–1301:
+   thigh soft-tissue artefact is mostly a rotation about the femur) the tilt is nearly
+   the same from both sensors; driven by the hip, the two knee axis estimates differ at
+   standing as on the real walk (0.3 rad/rad internal on both legs: 17–19° against the
+   real walk's 17.5 / 18.5°, the left leg's negative as the real one's;
+   ``benchmarks/results/sim_signatures.md``).
 4. **Skin motion.** A displacement non-linear in the joint angles that
    deform the tissue under the sensor: ``Σ_j c_j θ_j²`` (quadratic) plus
    ``Σ_j e_j θ_sat tanh(θ_j / θ_sat)`` (saturating), random directions of
@@ -89,8 +93,10 @@ class Artefacts:
             driving joint angle, m.
         skin_saturation_rad: joint angle at which skin sliding saturates, rad.
         skin_twist_rad_per_rad: sensor rotation about the segment's long axis (y) per
-            rad of the driving joint's flexion
-            (:data:`~lowerlimb.simulation.tissue_motion.TWIST_DRIVERS`), per segment, rad/rad.
+            rad of the driving joint's flexion, per segment, rad/rad; positive internal
+            (about +y on the right leg, −y on the left: segment frames are not mirrored).
+        skin_twist_driver: the joint whose flexion twists each sensor, per segment:
+            ``"hip"``, ``"knee"`` or ``"ankle"``.
         clock_offset_std_s: standard deviation of each sensor's constant clock offset, s.
         clock_jitter_std_s: standard deviation of the white sample-time jitter, s.
         acc_scale_std: standard deviation of the accelerometer scale-factor errors (unit-less).
@@ -119,6 +125,9 @@ class Artefacts:
     skin_saturating_m: dict[str, float] = field(default_factory=lambda: _per_segment(0.0, 0.0, 0.0, 0.0))
     skin_saturation_rad: float = 0.5
     skin_twist_rad_per_rad: dict[str, float] = field(default_factory=lambda: _per_segment(0.0, 0.0, 0.0, 0.0))
+    skin_twist_driver: dict[str, str] = field(
+        default_factory=lambda: {"pelvis": "hip", "thigh": "knee", "shank": "knee", "foot": "ankle"}
+    )
     clock_offset_std_s: float = 0.0
     clock_jitter_std_s: float = 0.0
     acc_scale_std: float = 0.0

@@ -120,7 +120,7 @@ def bilateral_tissue_motion(
         w = (weights[side], np.interp(contra, tr.t, ramp))
         QVA = (tr.Q, tr.V, tr.A)
         tissue[side] = tissue_at_contacts(
-            art, rate_hz, tr.t, (ipsi, contra), w, sig[side].acc, sig[side].base_pl, QVA, rng
+            art, rate_hz, tr.t, (ipsi, contra), w, sig[side].acc, sig[side].base_pl, QVA, rng, side
         )
     tissue["right"]["pelvis"] = tissue["left"]["pelvis"]
     return tissue, weights

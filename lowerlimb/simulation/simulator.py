@@ -171,7 +171,7 @@ def simulate(
     sta_dirs = _sta_directions(sta, rng) if sta is not None else None
     sig = _rigid_signals(sim_model, traj, with_alpha=sta is not None or art is not None)
     art_rng = np.random.default_rng([seed, 9] if art is None or art.seed is None else art.seed)
-    contacts, tissue = _artefact_motion(art, rate_hz, traj, sig, art_rng)
+    contacts, tissue = _artefact_motion(art, rate_hz, traj, sig, art_rng, side)
     sta_off = _move_sensors(sig, traj, sta_dirs, tissue)
     mag = {sensor: np.einsum("nji,j->ni", sig.rot[sensor], MAG_FIELD_ENU_UT) for sensor in SENSORS}
     clean = ImuTrial(traj.t.copy(), sig.acc, sig.gyr, mag if with_mag else None, side)
@@ -323,6 +323,7 @@ def _artefact_motion(
     traj: _Trajectories,
     sig: _SensorSignals,
     rng: np.random.Generator,
+    side: str,
 ) -> tuple[tuple[FloatArray, FloatArray], dict[str, TissueMotion] | None]:
     """Initial contacts (s) and each sensor's non-rigid motion (:func:`_tissue_motion`).
 
@@ -331,7 +332,8 @@ def _artefact_motion(
     if art is None:
         return (np.zeros(0), np.zeros(0)), None
     QVA = (traj.Q, traj.V, traj.A)
-    return _tissue_motion(art, rate_hz, traj.t, traj.s, traj.kin.gait_phase, sig.acc, sig.base_pl, QVA, rng)
+    phase = traj.kin.gait_phase
+    return _tissue_motion(art, rate_hz, traj.t, traj.s, phase, sig.acc, sig.base_pl, QVA, rng, side)
 
 
 def _sta_directions(sta: SoftTissue, rng: np.random.Generator) -> dict[str, FloatArray]:
@@ -553,6 +555,7 @@ def _tissue_motion(
     base_pl: dict[str, pin.SE3],
     QVA: tuple[FloatArray, FloatArray, FloatArray],
     rng: np.random.Generator,
+    side: str,
 ) -> tuple[tuple[FloatArray, FloatArray], dict[str, TissueMotion]]:
     """Initial contacts (instrumented, other foot) and each sensor's non-rigid motion.
 
@@ -566,7 +569,7 @@ def _tissue_motion(
         ipsi, contra = contact_times(t, gait_phase, 0.0), contact_times(t, gait_phase, 0.5)
         ipsi, contra = ipsi[np.interp(ipsi, t, s) > 0.0], contra[np.interp(contra, t, s) > 0.0]
     weights = (np.interp(ipsi, t, s), np.interp(contra, t, s))
-    tissue = tissue_at_contacts(art, rate_hz, t, (ipsi, contra), weights, acc_rigid, base_pl, QVA, rng)
+    tissue = tissue_at_contacts(art, rate_hz, t, (ipsi, contra), weights, acc_rigid, base_pl, QVA, rng, side)
     return (ipsi, contra), tissue
 
 
@@ -580,6 +583,7 @@ def tissue_at_contacts(
     base_pl: dict[str, pin.SE3],
     QVA: tuple[FloatArray, FloatArray, FloatArray],
     rng: np.random.Generator,
+    side: str,
 ) -> dict[str, TissueMotion]:
     """Each sensor's non-rigid motion (:func:`compute_tissue_motion`) for known initial contacts.
 
@@ -595,11 +599,14 @@ def tissue_at_contacts(
         QVA: (N, 7 + 9) configuration of the simulation model (root joint, then the leg
             DOFs, rad) and its first and second time derivatives.
         rng: draws the skin-motion directions.
+        side: the leg, ``"left"`` or ``"right"`` (the sign of an internal skin twist).
     """
     bone_acc = {sensor: acc_rigid[sensor] @ base_pl[sensor].rotation.T for sensor in SENSORS}
     normal = {sensor: base_pl[sensor].rotation[:, 2] for sensor in SENSORS}
     joints = (QVA[0][:, _N_ROOT:], QVA[1][:, _N_ROOT:], QVA[2][:, _N_ROOT:])
-    return compute_tissue_motion(art, rate_hz, t, *contacts, weights, bone_acc, normal, joints, rng)
+    return compute_tissue_motion(
+        art, rate_hz, t, *contacts, weights, bone_acc, normal, joints, rng, side=side
+    )
 
 
 def _apply_errors(

@@ -21,6 +21,7 @@ import numpy as np
 from scipy.signal import cont2discrete, lfilter, ss2tf
 
 from ..conventions import SENSORS, FloatArray
+from ..errors import InputError
 from .artefacts import Artefacts
 
 #: Joint angles (angles.csv index) that deform the tissue under each sensor.
@@ -30,8 +31,28 @@ SKIN_DRIVERS: dict[str, tuple[int, ...]] = {
     "shank": (3, 6),
     "foot": (6,),
 }
-#: The joint angle (angles.csv index) whose flexion twists each sensor about its bone.
-TWIST_DRIVERS: dict[str, int] = {"pelvis": 0, "thigh": 3, "shank": 3, "foot": 6}
+#: Each joint's flexion angle (angles.csv index): the drivers of the skin twist
+#: (:attr:`~lowerlimb.simulation.artefacts.Artefacts.skin_twist_driver`).
+FLEXION_INDEX: dict[str, int] = {"hip": 0, "knee": 3, "ankle": 6}
+
+
+def internal_twist_sign(side: str) -> float:
+    """+1 on the right leg, −1 on the left: an internal rotation about the segment's +y axis.
+
+    The segment frames of both legs are ISB right-leg frames (x anterior, y up, z right), so
+    an internal rotation (the front turning medially) is a positive rotation about y on the
+    right leg and a negative one on the left.
+    """
+    return 1.0 if side == "right" else -1.0
+
+
+def _twist_index(params: Artefacts, sensor: str) -> int:
+    driver = params.skin_twist_driver[sensor]
+    if driver not in FLEXION_INDEX:
+        raise InputError(
+            f"Artefacts.skin_twist_driver[{sensor!r}] is {driver!r}: use one of {', '.join(FLEXION_INDEX)}"
+        )
+    return FLEXION_INDEX[driver]
 
 
 @dataclass
@@ -166,6 +187,8 @@ def compute_tissue_motion(
     skin_normal_seg: dict[str, FloatArray],
     joints: tuple[FloatArray, FloatArray, FloatArray],
     rng: np.random.Generator,
+    *,
+    side: str,
 ) -> dict[str, TissueMotion]:
     """Non-rigid motion of every sensor (zero-mean displacement and rotation).
 
@@ -181,6 +204,7 @@ def compute_tissue_motion(
         skin_normal_seg: ``{sensor: (3,)}`` the sensor's z axis in the segment frame.
         joints: (N, 9) joint angles (rad), their rates and accelerations.
         rng: draws the skin-motion directions (in :data:`SENSORS` order).
+        side: the leg (``"left"`` or ``"right"``): the sign of an internal skin twist.
 
     Returns:
         ``{sensor: TissueMotion}``.
@@ -212,8 +236,9 @@ def compute_tissue_motion(
         dt_s, vt_s, at_s = d_t + d_s, v_t + v_s, a_t + a_s
         th, th_v, th_a = (k * np.cross(n, x) for x in (dt_s, vt_s, at_s))
         # ... and twists about the bone with the flexion of the joint whose muscles slide under it
-        c, j = params.skin_twist_rad_per_rad[sensor], TWIST_DRIVERS[sensor]
+        c = internal_twist_sign(side) * params.skin_twist_rad_per_rad[sensor]
         if c != 0.0:
+            j = _twist_index(params, sensor)
             along = np.array([0.0, 1.0, 0.0])
             th = th + c * np.outer(joints[0][:, j], along)
             th_v = th_v + c * np.outer(joints[1][:, j], along)
