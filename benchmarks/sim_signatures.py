@@ -31,7 +31,9 @@ coherence difference: own force 3 m/s² (pelvis 1.5), shared artefacts halved, r
 and two experiments on rigid sensors where the limb itself vibrates
 (``simulate_bilateral(limb_vibration_deg=…)``: every hip and ankle angle and the knee's flexion
 at 0.1° and 0.3° RMS in 4–12 Hz), to see whether the real walk's low coherence could be rigid
-motion rather than sensors moving on their segments.
+motion rather than sensors moving on their segments; and the thigh sensor turning about the femur
+with hip flexion (:attr:`Artefacts.skin_twist_driver` ``"hip"``, internal on both legs, 0.15 and
+0.3 rad/rad; sensors otherwise rigid, and with ``own 3, shared ½``).
 
 Usage: ``python benchmarks/sim_signatures.py [--data ../shared/data] [--seeds 201 202 203]
 [--out benchmarks/results]``; writes ``sim_signatures.{md,json}``.
@@ -104,6 +106,20 @@ def _own(
     return make
 
 
+def _hip_twist(base: Callable[[int], Artefacts | None], c: float) -> Callable[[int], Artefacts]:
+    """``base`` with the thigh sensor turning internally by ``c`` rad per rad of hip flexion."""
+
+    def make(seed: int) -> Artefacts:
+        art = base(seed) or Artefacts(seed=seed)
+        return dataclasses.replace(
+            art,
+            skin_twist_rad_per_rad={**art.skin_twist_rad_per_rad, "thigh": c},
+            skin_twist_driver={**art.skin_twist_driver, "thigh": "hip"},
+        )
+
+    return make
+
+
 def _no_tissue(seed: int) -> Artefacts:
     """``synchronised`` without the wobbling mass (impacts, skin motion and sensor errors kept)."""
     base = _synchronised(seed)
@@ -123,6 +139,9 @@ PROFILES: dict[str, Callable[[int], Artefacts | None]] = {
     "spectra matched": _own(3.0, 0.5, pelvis=1.5, rock=2.0),
     "limb vibration 0.1°": lambda seed: None,
     "limb vibration 0.3°": lambda seed: None,
+    "hip twist 0.15": _hip_twist(lambda seed: None, 0.15),
+    "hip twist 0.3": _hip_twist(lambda seed: None, 0.3),
+    "own 3, shared ½, hip twist 0.3": _hip_twist(_own(3.0, 0.5), 0.3),
 }
 
 #: name → ``simulate_bilateral(limb_vibration_deg=…)`` (rigid sensors, the limb itself vibrating).

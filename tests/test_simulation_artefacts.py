@@ -214,6 +214,12 @@ def test_skin_twist_driven_by_the_hip_is_an_internal_rotation_on_either_leg(side
     np.testing.assert_allclose(
         sim.artefacts.rotation_rad["thigh"], c * np.outer(hip - hip.mean(), internal), atol=1e-12
     )
+    # the skin turns about the femur (the thigh's y axis through the hip), carrying the sensor round it
+    p = np.asarray(sim.truth["sensors"]["thigh"]["position_in_segment"]) * np.array([1.0, 0.0, 1.0])
+    phi = (1.0 if side == "right" else -1.0) * c * (hip - hip.mean())
+    d = np.outer(np.cos(phi) - 1.0, p) + np.outer(np.sin(phi), np.cross([0.0, 1.0, 0.0], p))
+    np.testing.assert_allclose(sim.artefacts.displacement_m["thigh"], d - d.mean(axis=0), atol=1e-12)
+    assert np.ptp(sim.artefacts.displacement_m["thigh"], axis=0).max() > 0.01
 
 
 def test_an_unknown_skin_twist_driver_is_refused_by_name():

@@ -603,9 +603,10 @@ def tissue_at_contacts(
     """
     bone_acc = {sensor: acc_rigid[sensor] @ base_pl[sensor].rotation.T for sensor in SENSORS}
     normal = {sensor: base_pl[sensor].rotation[:, 2] for sensor in SENSORS}
+    pos = {sensor: np.asarray(base_pl[sensor].translation, dtype=float) for sensor in SENSORS}
     joints = (QVA[0][:, _N_ROOT:], QVA[1][:, _N_ROOT:], QVA[2][:, _N_ROOT:])
     return compute_tissue_motion(
-        art, rate_hz, t, *contacts, weights, bone_acc, normal, joints, rng, side=side
+        art, rate_hz, t, *contacts, weights, bone_acc, normal, pos, joints, rng, side=side
     )
 
 

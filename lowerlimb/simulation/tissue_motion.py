@@ -176,6 +176,53 @@ def _random_dirs(rng: np.random.Generator, n: int, norm: float) -> FloatArray:
     return np.asarray(norm * d / np.linalg.norm(d, axis=1, keepdims=True))
 
 
+def skin_twist(
+    params: Artefacts,
+    sensor: str,
+    joints: tuple[FloatArray, FloatArray, FloatArray],
+    side: str,
+    pos: FloatArray,
+) -> TissueMotion:
+    """The sensor's turn about its bone's long axis with the flexion of the driving joint.
+
+    The skin turns about the bone, the segment's y axis through its origin (the joint
+    centre), so the sensor turns by ``φ = c (θ − mean θ)`` about y and moves with it on a
+    circle about that axis: ``Δp = (cos φ − 1) p⊥ + sin φ (y × p⊥)``, ``p⊥`` the sensor's
+    nominal position across the axis.
+
+    Args:
+        params: the artefact parameters (``skin_twist_rad_per_rad``, ``skin_twist_driver``).
+        sensor: the sensor (segment) name.
+        joints: (N, 9) joint angles (rad), their rates and accelerations.
+        side: the leg: a positive twist is internal on either leg (:func:`internal_twist_sign`).
+        pos: (3,) the sensor's nominal position in the segment frame, m.
+
+    Returns:
+        The twist's rotation (segment frame) and displacement of the sensor, zero when off.
+    """
+    n = joints[0].shape[0]
+    c = internal_twist_sign(side) * params.skin_twist_rad_per_rad[sensor]
+    if c == 0.0:
+        z = np.zeros((n, 3))
+        return TissueMotion(z, z, z, z, z, z)
+    j = _twist_index(params, sensor)
+    phi = c * (joints[0][:, j] - joints[0][:, j].mean())
+    phi_v, phi_a = c * joints[1][:, j], c * joints[2][:, j]
+    along = np.array([0.0, 1.0, 0.0])
+    p = np.asarray(pos, dtype=float) * np.array([1.0, 0.0, 1.0])
+    q = np.cross(along, p)
+    cos, sin = np.cos(phi)[:, None], np.sin(phi)[:, None]
+    turn = -sin * p + cos * q  # d/dφ of Δp
+    return TissueMotion(
+        d=(cos - 1.0) * p + sin * q,
+        d_v=phi_v[:, None] * turn,
+        d_a=phi_a[:, None] * turn + (phi_v**2)[:, None] * (-cos * p - sin * q),
+        th=np.outer(phi, along),
+        th_v=np.outer(phi_v, along),
+        th_a=np.outer(phi_a, along),
+    )
+
+
 def compute_tissue_motion(
     params: Artefacts,
     rate_hz: float,
@@ -185,6 +232,7 @@ def compute_tissue_motion(
     contact_weight: tuple[FloatArray, FloatArray],
     bone_acc_seg: dict[str, FloatArray],
     skin_normal_seg: dict[str, FloatArray],
+    sensor_pos_seg: dict[str, FloatArray],
     joints: tuple[FloatArray, FloatArray, FloatArray],
     rng: np.random.Generator,
     *,
@@ -202,6 +250,8 @@ def compute_tissue_motion(
         bone_acc_seg: ``{sensor: (N, 3)}`` rigid classical acceleration of the
             sensor point, without gravity, segment frame, m/s².
         skin_normal_seg: ``{sensor: (3,)}`` the sensor's z axis in the segment frame.
+        sensor_pos_seg: ``{sensor: (3,)}`` the sensor's nominal position in the segment
+            frame (from the joint centre at its origin), m.
         joints: (N, 9) joint angles (rad), their rates and accelerations.
         rng: draws the skin-motion directions (in :data:`SENSORS` order).
         side: the leg (``"left"`` or ``"right"``): the sign of an internal skin twist.
@@ -236,13 +286,9 @@ def compute_tissue_motion(
         dt_s, vt_s, at_s = d_t + d_s, v_t + v_s, a_t + a_s
         th, th_v, th_a = (k * np.cross(n, x) for x in (dt_s, vt_s, at_s))
         # ... and twists about the bone with the flexion of the joint whose muscles slide under it
-        c = internal_twist_sign(side) * params.skin_twist_rad_per_rad[sensor]
-        if c != 0.0:
-            j = _twist_index(params, sensor)
-            along = np.array([0.0, 1.0, 0.0])
-            th = th + c * np.outer(joints[0][:, j], along)
-            th_v = th_v + c * np.outer(joints[1][:, j], along)
-            th_a = th_a + c * np.outer(joints[2][:, j], along)
+        tw = skin_twist(params, sensor, joints, side, sensor_pos_seg[sensor])
+        th, th_v, th_a = th + tw.th, th_v + tw.th_v, th_a + tw.th_a
+        dt_s, vt_s, at_s = dt_s + tw.d, vt_s + tw.d_v, at_s + tw.d_a
         d = d_b + dt_s
         out[sensor] = TissueMotion(
             d=d - d.mean(axis=0),
