@@ -32,6 +32,7 @@ from .calibration.clock_sync import ClockOffsets, synchronise
 from .calibration.options import CalibrationOptions
 from .calibration.plausibility import SIDE_MIN_MOTION_S, check_side, pelvis_turn_side_cue
 from .calibration.rest_gravity import AccelerometerOffsetWarning, rest_gravity_notes, rest_gravity_offsets
+from .calibration.thigh_twist import estimate_thigh_twist, standing_mismatch_deg, untwist_trial
 from .conventions import SENSORS, FloatArray, quat_from_matrix
 from .errors import InputError
 from .io.trial import ImuTrial
@@ -214,12 +215,49 @@ def _calibrate_synchronised(
         # σ 10 ms clocks: knee pairs left 11–28 ms off); the leg's band is chosen again after
         calib, kept, trial, offsets = _search_clocks(trial, calib, kept, calibrate, options)
         calib = replace(calib, clock_offsets=offsets.to_dict())
+    trial, calib, kept = _untwisted(trial, calib, kept, calibrate, still, previous, options)
     for w in kept:
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     return trial, calib
 
 
 _Calibrate = Callable[[ImuTrial, CalibrationOptions], tuple[LegCalibration, list[warnings.WarningMessage]]]
+
+
+def _untwisted(
+    trial: ImuTrial,
+    calib: LegCalibration,
+    kept: list[warnings.WarningMessage],
+    calibrate: _Calibrate,
+    still: StillPeriod,
+    previous: LegCalibration | None,
+    options: CalibrationOptions,
+) -> tuple[ImuTrial, LegCalibration, list[warnings.WarningMessage]]:
+    """Stage 1b: the thigh sensor's twist with the thigh's flexion undone (``options.thigh_twist``).
+
+    A reused calibration's twist is applied as recorded; otherwise the twist is estimated
+    (:func:`~lowerlimb.calibration.thigh_twist.estimate_thigh_twist`, its trial fits without
+    the probes) and the untwisted trial calibrated again, whose warnings replace ``kept``.
+    """
+    n = still.samples(options.still_min_s)
+    if previous is not None:
+        if previous.thigh_twist is None:
+            return trial, calib, kept
+        return (
+            untwist_trial(trial, previous.thigh_twist, n),
+            replace(calib, thigh_twist=previous.thigh_twist),
+            kept,
+        )
+    if not options.thigh_twist:
+        return trial, calib, kept
+    quick = replace(options, cutoff_probe=False, split_half_probe=False)
+    twist = estimate_thigh_twist(trial, calib, lambda t: calibrate(t, quick)[0], n, options)
+    if twist is None:
+        return trial, calib, kept
+    trial = untwist_trial(trial, twist, n)
+    calib, kept = calibrate(trial, options)
+    twist = replace(twist, mismatch_after_deg=standing_mismatch_deg(calib, trial, n))
+    return trial, replace(calib, thigh_twist=twist), kept
 
 
 def _search_clocks(

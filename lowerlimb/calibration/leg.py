@@ -62,6 +62,7 @@ from lowerlimb.calibration.rest_gravity import rest_gravity_offsets, vertical_of
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.calibration.segment_prior import CenterPrior, center_prior, segment_up
 from lowerlimb.calibration.split_half import half_masks, split_half_message, split_half_shift
+from lowerlimb.calibration.thigh_twist import ThighTwist
 from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import JOINT_SENSORS, SENSORS, FloatArray
 from lowerlimb.errors import InputError
@@ -115,6 +116,9 @@ class LegCalibration:
         rest_gravity_removed: whether those offsets were taken off along each sensor's
             standing vertical before the fits (``CalibrationOptions.rest_gravity_correction``).
         fit_band: the band the joints were fitted in (:mod:`~lowerlimb.calibration.fit_band`).
+        thigh_twist: the thigh sensor's twist undone before the fits
+            (:mod:`~lowerlimb.calibration.thigh_twist`; the calibration is of the untwisted
+            thigh sensor, which coincides with the sensor at standing); ``None``: none.
         coherent_fit: the leg fitted in the coherent band, beside a kept widened fit (not
             written; the clock search compares coherent-band fits); ``None`` otherwise.
     """
@@ -136,6 +140,7 @@ class LegCalibration:
     rest_gravity_offsets: dict[str, float] = field(default_factory=dict)
     rest_gravity_removed: bool = False
     fit_band: FitBand = field(default_factory=FitBand)
+    thigh_twist: ThighTwist | None = None
     coherent_fit: LegCalibration | None = field(default=None, repr=False, compare=False)
 
     @property
@@ -169,6 +174,7 @@ class LegCalibration:
             "rest_gravity_offset_mps2": {k: float(v) for k, v in self.rest_gravity_offsets.items()},
             "rest_gravity_removed": bool(self.rest_gravity_removed),
             "fit_band": self.fit_band.to_dict(),
+            "thigh_twist": None if self.thigh_twist is None else self.thigh_twist.to_dict(),
             "warnings": self.warnings,
         }
 
@@ -204,6 +210,7 @@ class LegCalibration:
                 rest_gravity_offsets={k: float(v) for k, v in d.get("rest_gravity_offset_mps2", {}).items()},
                 rest_gravity_removed=bool(d.get("rest_gravity_removed", False)),
                 fit_band=FitBand.from_dict(d.get("fit_band")),
+                thigh_twist=None if d.get("thigh_twist") is None else ThighTwist.from_dict(d["thigh_twist"]),
             )
         except KeyError as e:
             raise InputError(f"calibration document lacks the key {e.args[0]!r}") from None

@@ -293,6 +293,21 @@ class CalibrationOptions:
             simulator it undoes added biases, but on the real walk it trades the thighs
             −10 / +29 for −23 / +16 mm, the left hip-to-ankle distance 23 for 40 mm and the
             worst step 35 for 44 mm.
+        thigh_twist: undo the thigh sensor's turn about the femur with the thigh's flexion
+            (:mod:`~lowerlimb.calibration.thigh_twist`; applied by
+            :func:`lowerlimb.pipeline.process_trial`, recorded in calibration.json
+            ``thigh_twist`` and re-applied when that calibration is reused). Off: on the
+            simulator it returns the rigid results, but on the real walk it puts both thighs
+            30–80 mm longer than Plug-in Gait's (``benchmarks/results/thigh_twist.md``).
+        thigh_twist_highpass_hz: high-pass of the thigh's flexion angle that drives the
+            twist (against the drift of the gyro's integral), Hz.
+        thigh_twist_min_mismatch_deg: no twist is sought when the knee axes from the two
+            sensors differ by less than this at standing, degrees.
+        thigh_twist_tol_deg: the search stops when the mismatch is within this, degrees.
+        thigh_twist_max: the largest twist searched, rad per rad of flexion.
+        thigh_twist_slope_deg: the mismatch per unit of twist assumed for the first step,
+            degrees per rad/rad (45: between the simulator's 60 and the real walk's 30).
+        thigh_twist_steps: at most this many secant steps.
     """
 
     prefilter: bool = True
@@ -383,6 +398,13 @@ class CalibrationOptions:
     clock_passes: int = 3
     rest_gravity_warn_mps2: float | None = 0.2
     rest_gravity_correction: bool = False
+    thigh_twist: bool = False
+    thigh_twist_highpass_hz: float = 0.1
+    thigh_twist_min_mismatch_deg: float = 2.0
+    thigh_twist_tol_deg: float = 0.5
+    thigh_twist_max: float = 1.0
+    thigh_twist_slope_deg: float = 45.0
+    thigh_twist_steps: int = 5
 
     def __post_init__(self) -> None:
         if self.angacc_window_s <= 0:
@@ -460,6 +482,7 @@ class CalibrationOptions:
                 f"clock_passes >= 1, got {self.clock_max_offset_s}, {self.clock_lowpass_hz}, "
                 f"{self.clock_split_tol_s}, {self.clock_passes}"
             )
+        self._check_thigh_twist()
         if self.centre_form not in CENTRE_FORMS:
             forms = ", ".join(CENTRE_FORMS)
             raise InputError(f"centre_form must be one of {forms}, got {self.centre_form!r}")
@@ -489,3 +512,19 @@ class CalibrationOptions:
         ):
             if getattr(self, name) < 1:
                 raise InputError(f"{name} must be >= 1, got {getattr(self, name)}")
+
+    def _check_thigh_twist(self) -> None:
+        if not (
+            0.0 < self.thigh_twist_highpass_hz < math.inf
+            and 0.0 <= self.thigh_twist_min_mismatch_deg < math.inf
+            and 0.0 < self.thigh_twist_tol_deg < math.inf
+            and 0.0 < self.thigh_twist_max < math.inf
+            and 0.0 < self.thigh_twist_slope_deg < math.inf
+            and self.thigh_twist_steps >= 1
+        ):
+            raise InputError(
+                "thigh_twist_highpass_hz, thigh_twist_tol_deg, thigh_twist_max and thigh_twist_slope_deg "
+                "must be > 0, thigh_twist_min_mismatch_deg >= 0 and thigh_twist_steps >= 1, got "
+                f"{self.thigh_twist_highpass_hz}, {self.thigh_twist_tol_deg}, {self.thigh_twist_max}, "
+                f"{self.thigh_twist_slope_deg}, {self.thigh_twist_min_mismatch_deg}, {self.thigh_twist_steps}"
+            )
