@@ -29,8 +29,9 @@ Scored on:
    standing from the thigh sensor, the shank sensor and Plug-in Gait (KJC→KNE);
 2. simulated 60 s walks (noise + bias, 6-axis) against the simulator's truth: rigid
    sensors, the real-walk artefact profile, and that profile with the thigh sensor
-   twisting about the femur by 0.15 or 0.3 rad per rad of knee flexion
-   (:attr:`~lowerlimb.simulation.Artefacts.skin_twist_rad_per_rad`).
+   twisting internally about the femur by 0.15 or 0.3 rad per rad of knee flexion
+   (:attr:`~lowerlimb.simulation.Artefacts.skin_twist_rad_per_rad`; internal on either leg and
+   carrying the sensor round the bone since 2026-12-03).
 
 Usage: ``python benchmarks/knee_axis_frames.py [--data ../shared/data] [--out DIR]
 [--seeds 6]``; writes ``knee_axis_frames.{md,json}``. Without the data folder the real
@@ -266,9 +267,10 @@ CONCLUSION = [
     "the simulator the mechanical axis loses wherever there are artefacts (it measures knee",
     "flexion about an axis that is not the hinge's, so a bending knee shows as adduction and",
     "rotation), and the shank's axis trades hip flexion for knee rotation (thigh twist 0.3: hip",
-    "flexion better by ~0.4°, knee rotation worse by ~1.1°). The simulator's twist tilts both",
-    "estimates together more often than the thigh's alone (median mismatch ~4°, not the real",
-    "walk's 17–18°), so it does not yet reproduce what the real thigh does. The principal axis",
+    "flexion better by ~0.1°, knee rotation worse by ~2°). A twist with knee flexion tilts both",
+    "estimates together more often than the thigh's alone (median mismatch 2.5°, not the real",
+    "walk's 17–18°); a twist with hip flexion gives the real walk's mismatch (`sim_signatures.md`)",
+    "and is undone by `CalibrationOptions.thigh_twist` (`thigh_twist.md`). The principal axis",
     "of the relative rotation gains less on the real walk (hip 6.2 / 6.0°, the left knee and",
     "ankle 0.4–0.6° worse) and trades ankle inversion for knee rotation on the twisting",
     "simulator. The library keeps the knee-axis frame; the real walk's hip-flexion offset is",

@@ -265,6 +265,8 @@ class CalibrateOptions:
             (:attr:`~lowerlimb.calibration.options.CalibrationOptions.centre_form`).
         hip_in_pelvis_form: the form that decides the hip centre in the pelvis sensor
             (:attr:`~lowerlimb.calibration.options.CalibrationOptions.hip_in_pelvis_form`).
+        thigh_twist: undo each thigh sensor's turn about the femur with hip flexion
+            (:attr:`~lowerlimb.calibration.options.CalibrationOptions.thigh_twist`).
         exports: extra formats to write (``"opensim"``, ``"bids"``; docs/exports.md).
         reference: a reference CSV (``time`` and columns named as ours, deg / m) whose
             agreement with the result goes into ``report.html``.
@@ -289,6 +291,7 @@ class CalibrateOptions:
     clock_sync: bool = True
     centre_form: str = "norm"
     hip_in_pelvis_form: str = "aligned"
+    thigh_twist: bool = False
     exports: tuple[str, ...] = ()
     reference: Path | None = None
     outputs: frozenset[str] = frozenset(OUTPUT_FILES)
@@ -302,6 +305,7 @@ class CalibrateOptions:
             clock_sync=self.clock_sync,
             centre_form=self.centre_form,
             hip_in_pelvis_form=self.hip_in_pelvis_form,
+            thigh_twist=self.thigh_twist,
         )
 
 
@@ -536,6 +540,7 @@ def build_provenance(options: CalibrateOptions) -> dict[str, Any]:
             "clock_sync": options.clock_sync,
             "centre_form": options.centre_form,
             "hip_in_pelvis_form": options.hip_in_pelvis_form,
+            "thigh_twist": options.thigh_twist,
             "smooth_orientation": options.smooth_orientation,
         },
         "calibration_reused_from": None if options.calibration is None else str(options.calibration),

@@ -95,6 +95,13 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "centimetres to decimetres) or 'norm' (the form of the other centres)",
     )
     p.add_argument(
+        "--thigh-twist",
+        action="store_true",
+        help="undo each thigh sensor's turn about the femur with hip flexion, found where the knee axes "
+        "from the thigh and the shank sensor disagree at standing (recorded in calibration.json; exact "
+        "on the simulator, on a real walk better knee angles but longer thighs: docs/limits.md)",
+    )
+    p.add_argument(
         "--export",
         action="append",
         choices=tuple(EXPORT_FORMATS),
@@ -147,6 +154,7 @@ def run(args: argparse.Namespace) -> int:
         clock_sync=not args.no_clock_sync,
         centre_form=args.centre_form,
         hip_in_pelvis_form=args.hip_in_pelvis_form,
+        thigh_twist=args.thigh_twist,
         exports=tuple(args.export),
         reference=args.reference,
         outputs=chosen_outputs(args),
