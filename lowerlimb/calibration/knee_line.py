@@ -216,9 +216,10 @@ def axis_mismatch_message(mismatch_deg: float) -> str:
     return (
         f"knee: the knee axis from the thigh sensor and from the shank sensor differ by "
         f"{abs(mismatch_deg):.0f}° in elevation at the standing start (a hinge keeps them equal): a sensor, "
-        f"most often the thigh's, turns on soft tissue; hip flexion (the thigh frame leans with the "
-        f"axis: a few degrees of offset in walking), knee adduction and rotation and the ankle's "
-        f"sideways place in the chain are less certain; strap the sensors tighter over flat, lean spots"
+        f"most often the thigh's, turns on soft tissue (typically about the femur as the hip flexes); hip "
+        f"flexion (the thigh frame leans with the axis: a few degrees of offset in walking), knee adduction "
+        f"and rotation and the ankle's sideways place in the chain are less certain; strap the sensors "
+        f"tighter over flat, lean spots, or pass --thigh-twist to undo such a turn (docs/limits.md)"
     )
 
 
