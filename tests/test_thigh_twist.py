@@ -8,6 +8,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from simcache import data_dir, real_walk_leg_mapping
 
 import lowerlimb as ll
 from lowerlimb.calibration.leg import LegCalibration
@@ -166,3 +167,21 @@ def test_calibrate_thigh_twist_writes_the_twist(tmp_path):
         )
     doc = json.loads((out / "calibration.json").read_text())
     assert doc["thigh_twist"] is not None and abs(doc["thigh_twist"]["mismatch_after_deg"]) < 2.0
+
+
+@pytest.mark.data
+@pytest.mark.skipif(
+    data_dir() is None or not (data_dir() / "gait").is_dir(),  # type: ignore[operator]
+    reason="real-walk data absent",
+)
+@pytest.mark.parametrize("side", ["left", "right"])
+def test_the_real_thighs_turn_internally_with_the_hip(side):
+    data = data_dir()
+    assert data is not None
+    trial = ll.read_xsens(data / "gait" / "rawimu", real_walk_leg_mapping(side), side=side)
+    res = _quiet(ll.process_trial, trial, calibration_options=CalibrationOptions(thigh_twist=True))
+    tw = res.calibration.thigh_twist
+    assert tw is not None
+    # measured: 0.33 / 0.59 internal, from -17.4 / +18.4 deg of mismatch to within 0.5 deg
+    assert 0.2 < tw.internal_per_flexion(side) < 0.8
+    assert abs(tw.mismatch_before_deg) > 12 and abs(tw.mismatch_after_deg) < 1.5
