@@ -185,3 +185,12 @@ def test_the_real_thighs_turn_internally_with_the_hip(side):
     # measured: 0.33 / 0.59 internal, from -17.4 / +18.4 deg of mismatch to within 0.5 deg
     assert 0.2 < tw.internal_per_flexion(side) < 0.8
     assert abs(tw.mismatch_before_deg) > 12 and abs(tw.mismatch_after_deg) < 1.5
+
+
+def test_a_study_can_undo_the_twist_and_its_hash_says_so():
+    from lowerlimb.batch import BatchParams
+    from lowerlimb.batch.worker import _options
+
+    assert "thigh_twist" not in BatchParams().processing_key()  # studies run before stay up to date
+    assert BatchParams(thigh_twist=True).processing_key()["thigh_twist"] is True
+    assert _options(BatchParams(thigh_twist=True)).thigh_twist

@@ -25,6 +25,8 @@ class BatchParams:
         hip_in_pelvis_form: the form that places the hip centre in the pelvis sensor
             (``calibrate --hip-in-pelvis-form``). Always part of the input hash: studies run
             before it became ``"aligned"`` are re-run once.
+        thigh_twist: undo each thigh sensor's turn about the femur with hip flexion
+            (``calibrate --thigh-twist``; in the input hash only when on).
         smooth_orientation: the orientation filters run forward and backward (offline;
             ``False``: ``calibrate --causal``). Always part of the input hash: studies run
             before the two passes became the default are re-run once.
@@ -45,6 +47,7 @@ class BatchParams:
     use_mag: bool = True
     centre_form: str = "norm"
     hip_in_pelvis_form: str = "aligned"
+    thigh_twist: bool = False
     smooth_orientation: bool = True
     outputs: frozenset[str] = field(default=ALL_OUTPUTS)
     workers: int | None = None
@@ -67,4 +70,6 @@ class BatchParams:
             key["centre_form"] = self.centre_form
         key["hip_in_pelvis_form"] = self.hip_in_pelvis_form  # its default changed the results
         key["smooth_orientation"] = self.smooth_orientation  # so did this one's
+        if self.thigh_twist:  # off leaves the studies run before it up to date
+            key["thigh_twist"] = True
         return key

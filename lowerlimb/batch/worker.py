@@ -263,4 +263,6 @@ def _one_line(e: BaseException) -> str:
 
 def _options(p: BatchParams) -> CalibrationOptions:
     """The calibration options a study's settings choose."""
-    return CalibrationOptions(centre_form=p.centre_form, hip_in_pelvis_form=p.hip_in_pelvis_form)
+    return CalibrationOptions(
+        centre_form=p.centre_form, hip_in_pelvis_form=p.hip_in_pelvis_form, thigh_twist=p.thigh_twist
+    )

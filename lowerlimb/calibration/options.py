@@ -302,7 +302,10 @@ class CalibrationOptions:
         thigh_twist_highpass_hz: high-pass of the thigh's flexion angle that drives the
             twist (against the drift of the gyro's integral), Hz.
         thigh_twist_min_mismatch_deg: no twist is sought when the knee axes from the two
-            sensors differ by less than this at standing, degrees.
+            sensors differ by less than this at standing, degrees (6, as
+            ``fit_band_max_mismatch_deg``: a knee that turns as it flexes gives 3–4° on rigid
+            sensors, and at 2° the twist found on such knees made knee rotation 6.4 → 8.1°
+            worse; a sensor turning 0.15 rad/rad with hip flexion gives 9°).
         thigh_twist_tol_deg: the search stops when the mismatch is within this, degrees.
         thigh_twist_max: the largest twist searched, rad per rad of flexion.
         thigh_twist_slope_deg: the mismatch per unit of twist assumed for the first step,
@@ -400,7 +403,7 @@ class CalibrationOptions:
     rest_gravity_correction: bool = False
     thigh_twist: bool = False
     thigh_twist_highpass_hz: float = 0.1
-    thigh_twist_min_mismatch_deg: float = 2.0
+    thigh_twist_min_mismatch_deg: float = 6.0
     thigh_twist_tol_deg: float = 0.5
     thigh_twist_max: float = 1.0
     thigh_twist_slope_deg: float = 45.0

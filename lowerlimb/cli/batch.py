@@ -53,6 +53,11 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "--hip-in-pelvis-form)",
     )
     p.add_argument(
+        "--thigh-twist",
+        action="store_true",
+        help="undo each thigh sensor's turn about the femur with hip flexion (as calibrate --thigh-twist)",
+    )
+    p.add_argument(
         "--causal", action="store_true", help="orientation filters forward only (as calibrate --causal)"
     )
     add_outputs(p)
@@ -68,6 +73,7 @@ def run(args: argparse.Namespace) -> int:
         use_mag=not args.no_mag,
         centre_form=args.centre_form,
         hip_in_pelvis_form=args.hip_in_pelvis_form,
+        thigh_twist=args.thigh_twist,
         smooth_orientation=not args.causal,
         outputs=chosen_outputs(args),
         workers=args.workers,
