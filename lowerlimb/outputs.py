@@ -451,6 +451,13 @@ def residual_lines(calibration: dict[str, Any]) -> list[str]:
             f"thigh {1000 * float(lengths['thigh']):.0f} mm, shank {1000 * float(lengths['shank']):.0f} mm "
             f"(hip and ankle centre to the knee axis{_band_text(calibration)})"
         )
+    twist = calibration.get("thigh_twist")
+    if isinstance(twist, dict):
+        lines.append(
+            f"thigh sensor twist undone: {float(twist['per_flexion_rad_per_rad']):+.2f} rad per rad of the "
+            f"thigh's flexion about the femur (knee axes {abs(float(twist['mismatch_before_deg'])):.0f}° → "
+            f"{abs(float(twist['mismatch_after_deg'])):.1f}° apart at standing)"
+        )
     agreement = calibration.get("magnetic_field_agreement")
     if isinstance(agreement, dict) and agreement:
         shares = ", ".join(f"{joint} {100 * float(a):.0f} %" for joint, a in agreement.items())

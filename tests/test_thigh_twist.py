@@ -155,7 +155,7 @@ def test_bad_twist_options_are_refused_by_name():
         CalibrationOptions(thigh_twist_steps=0)
 
 
-def test_calibrate_thigh_twist_writes_the_twist(tmp_path):
+def test_calibrate_thigh_twist_writes_the_twist(tmp_path, capsys):
     trial = simulate("walk", 30.0, 4, artefacts=_hip_twist(4)).trial
     csv = tmp_path / "walk.csv"
     trial.to_csv(csv)
@@ -167,6 +167,7 @@ def test_calibrate_thigh_twist_writes_the_twist(tmp_path):
         )
     doc = json.loads((out / "calibration.json").read_text())
     assert doc["thigh_twist"] is not None and abs(doc["thigh_twist"]["mismatch_after_deg"]) < 2.0
+    assert "thigh sensor twist undone" in capsys.readouterr().err
 
 
 @pytest.mark.data
