@@ -28,7 +28,6 @@ import os
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import argparse
-import dataclasses
 import functools
 import sys
 import warnings
@@ -53,7 +52,7 @@ from _realwalk import load_vicon  # noqa: E402
 from _results import write_results  # noqa: E402
 from gait import true_leg  # noqa: E402
 from real_gait import evaluate, load_leg  # noqa: E402
-from sim_signatures import _own  # noqa: E402
+from sim_signatures import _hip_twist, _own  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 ANGLES = list(ANGLE_COLUMNS[1:])
@@ -68,25 +67,13 @@ def _quiet(f: Callable[..., Any], *a: Any, **k: Any) -> Any:
         return f(*a, **k)
 
 
-def _hip_twist(c: float, base: Callable[[int], Artefacts] | None = None) -> Callable[[int], Artefacts]:
-    def make(seed: int) -> Artefacts:
-        art = base(seed) if base is not None else Artefacts(seed=seed)
-        return dataclasses.replace(
-            art,
-            skin_twist_rad_per_rad={**art.skin_twist_rad_per_rad, "thigh": c},
-            skin_twist_driver={**art.skin_twist_driver, "thigh": "hip"},
-        )
-
-    return make
-
-
 #: name → (artefact profile of a seed or None, knee rotation per rad of flexion)
 PROFILES: dict[str, tuple[Callable[[int], Artefacts] | None, float]] = {
     "rigid": (None, 0.0),
     "knees turning 0.2": (None, 0.2),
-    "hip twist 0.15": (_hip_twist(0.15), 0.0),
-    "hip twist 0.3": (_hip_twist(0.3), 0.0),
-    "own 3, shared ½, hip twist 0.3": (_hip_twist(0.3, _own(3.0, 0.5)), 0.0),
+    "hip twist 0.15": (_hip_twist(lambda seed: None, 0.15), 0.0),
+    "hip twist 0.3": (_hip_twist(lambda seed: None, 0.3), 0.0),
+    "own 3, shared ½, hip twist 0.3": (_hip_twist(_own(3.0, 0.5), 0.3), 0.0),
 }
 
 
