@@ -242,6 +242,12 @@ def _untwisted(
     n = still.samples(options.still_min_s)
     if previous is not None:
         if previous.thigh_twist is None:
+            if options.thigh_twist:
+                raise InputError(
+                    "the thigh twist is found while calibrating and the reused calibration records none: "
+                    "calibrate once with --thigh-twist (its calibration.json keeps the twist, and a reuse "
+                    "re-applies it), or drop --thigh-twist"
+                )
             return trial, calib, kept
         return (
             untwist_trial(trial, previous.thigh_twist, n),

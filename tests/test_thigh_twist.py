@@ -195,3 +195,19 @@ def test_a_study_can_undo_the_twist_and_its_hash_says_so():
     assert "thigh_twist" not in BatchParams().processing_key()  # studies run before stay up to date
     assert BatchParams(thigh_twist=True).processing_key()["thigh_twist"] is True
     assert _options(BatchParams(thigh_twist=True)).thigh_twist
+
+
+def test_thigh_twist_with_a_calibration_that_records_none_is_refused(tmp_path, capsys):
+    csv = tmp_path / "walk.csv"
+    simulate("walk", 20.0, 6).trial.to_csv(csv)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["calibrate", str(csv), "--out", str(tmp_path / "a"), "--outputs", "calibration"]) == 0
+        capsys.readouterr()
+        cal = str(tmp_path / "a" / "calibration.json")
+        args = ["calibrate", str(csv), "--calibration", cal, "--thigh-twist", "--out", str(tmp_path / "b")]
+        code = main(args)
+    assert code == 2
+    err = [line for line in capsys.readouterr().err.splitlines() if "error" in line]
+    assert len(err) == 1 and "--thigh-twist" in err[0] and "records none" in err[0]
+    assert not (tmp_path / "b").exists()
