@@ -163,11 +163,15 @@ def test_calibrate_thigh_twist_writes_the_twist(tmp_path, capsys):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         assert (
-            main(["calibrate", str(csv), "--thigh-twist", "--out", str(out), "--outputs", "calibration"]) == 0
+            main(
+                ["calibrate", str(csv), "--thigh-twist", "--out", str(out), "--outputs", "calibration,report"]
+            )
+            == 0
         )
     doc = json.loads((out / "calibration.json").read_text())
     assert doc["thigh_twist"] is not None and abs(doc["thigh_twist"]["mismatch_after_deg"]) < 2.0
     assert "thigh sensor twist undone" in capsys.readouterr().err
+    assert "id='twist-note'" in (out / "report.html").read_text()
 
 
 @pytest.mark.data

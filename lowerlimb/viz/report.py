@@ -178,6 +178,7 @@ def render_report(
         _magnetometer_note(calibration),
         _knee_axis_table(calibration),
         _clock_note(calibration),
+        _twist_note(calibration),
         "<h2>Joint angles</h2>",
         "<p class='note'>ISB angles, Z-X-Y decomposition; flexion, adduction/inversion and "
         "internal rotation positive; zero = standing reference posture.</p>",
@@ -329,6 +330,20 @@ def _clock_note(calibration: Mapping[str, Any]) -> str:
         "<p class='warnings' id='clock-note'>Sensor clocks: the signals were re-timed before "
         f"calibrating, as found from the joints ({text} against the pelvis sensor); "
         "synchronise the sensors when recording.</p>"
+    )
+
+
+def _twist_note(calibration: Mapping[str, Any]) -> str:
+    """One line on the thigh sensor's twist undone (calibration.json ``thigh_twist``; empty: none)."""
+    rec = calibration.get("thigh_twist")
+    if not isinstance(rec, Mapping):
+        return ""
+    return (
+        "<p class='note' id='twist-note'>Thigh sensor twist (<code>--thigh-twist</code>): the thigh "
+        f"sensor turned {float(rec['per_flexion_rad_per_rad']):+.2f} rad about the femur per rad of the "
+        f"thigh's flexion, and that turn was undone before calibrating (knee axes from the two sensors "
+        f"{abs(float(rec['mismatch_before_deg'])):.0f}° → {abs(float(rec['mismatch_after_deg'])):.1f}° "
+        "apart at standing). Thigh lengths are less certain with it (docs/limits.md).</p>"
     )
 
 
