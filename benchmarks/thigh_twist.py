@@ -36,11 +36,11 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy.signal import butter, sosfiltfilt
 
 import lowerlimb as ll
 from lowerlimb.calibration.leg import calibrate_leg
 from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.calibration.thigh_twist import gyro_evidence
 from lowerlimb.conventions import ANGLE_COLUMNS
 from lowerlimb.io.trial import ImuTrial
 from lowerlimb.model.fallback import segment_lengths
@@ -80,24 +80,7 @@ PROFILES: dict[str, tuple[Callable[[int], Artefacts] | None, float]] = {
 def twist_signature(trial: ImuTrial) -> float:
     """The thigh's axial rate minus the shank's, per unit of the thigh's sagittal rate (module docstring)."""
     n = max(1, trial.still_period().samples(0.5))
-    sos = butter(4, 4.0, fs=trial.rate_hz, output="sos")
-    g, up = {}, {}
-    for s in ("thigh", "shank"):
-        x = np.asarray(trial.gyr[s], dtype=float)
-        g[s] = sosfiltfilt(sos, x - x[:n].mean(axis=0), axis=0)
-        u = np.asarray(trial.acc[s][:n], dtype=float).mean(axis=0)
-        up[s] = u / np.linalg.norm(u)
-    cal = _quiet(calibrate_leg, trial)
-    j = {}
-    for s, axis in (("thigh", cal.knee.axis_in_parent_sensor), ("shank", cal.knee.axis_in_child_sensor)):
-        h = axis - (axis @ up[s]) * up[s]
-        j[s] = h / np.linalg.norm(h)
-    moving = np.linalg.norm(g["shank"], axis=1) > 0.5
-    y = g["thigh"] @ up["thigh"] - g["shank"] @ up["shank"]
-    sagittal = g["thigh"] @ j["thigh"]
-    knee = g["shank"] @ j["shank"] - sagittal
-    coef = np.linalg.lstsq(np.column_stack([sagittal, knee])[moving], y[moving], rcond=None)[0]
-    return float(coef[0])
+    return gyro_evidence(trial, _quiet(calibrate_leg, trial), n)
 
 
 def _leg_scores(sim: Any, side: str, options: CalibrationOptions | None) -> dict[str, Any]:

@@ -32,7 +32,13 @@ from .calibration.clock_sync import ClockOffsets, synchronise
 from .calibration.options import CalibrationOptions
 from .calibration.plausibility import SIDE_MIN_MOTION_S, check_side, pelvis_turn_side_cue
 from .calibration.rest_gravity import AccelerometerOffsetWarning, rest_gravity_notes, rest_gravity_offsets
-from .calibration.thigh_twist import estimate_thigh_twist, standing_mismatch_deg, untwist_trial
+from .calibration.thigh_twist import (
+    ThighTwistWarning,
+    estimate_thigh_twist,
+    standing_mismatch_deg,
+    unconfirmed_message,
+    untwist_trial,
+)
 from .conventions import SENSORS, FloatArray, quat_from_matrix
 from .errors import InputError
 from .io.trial import ImuTrial
@@ -263,6 +269,8 @@ def _untwisted(
     trial = untwist_trial(trial, twist, n)
     calib, kept = calibrate(trial, options)
     twist = replace(twist, mismatch_after_deg=standing_mismatch_deg(calib, trial, n))
+    if not twist.confirmed(options.thigh_twist_min_evidence):
+        warnings.warn(unconfirmed_message(twist), ThighTwistWarning, stacklevel=3)
     return trial, replace(calib, thigh_twist=twist), kept
 
 

@@ -13,7 +13,13 @@ from simcache import data_dir, real_walk_leg_mapping
 import lowerlimb as ll
 from lowerlimb.calibration.leg import LegCalibration
 from lowerlimb.calibration.options import CalibrationOptions
-from lowerlimb.calibration.thigh_twist import ThighTwist, untwist_signals, untwist_trial
+from lowerlimb.calibration.thigh_twist import (
+    ThighTwist,
+    ThighTwistWarning,
+    unconfirmed_message,
+    untwist_signals,
+    untwist_trial,
+)
 from lowerlimb.cli import main
 from lowerlimb.conventions import quat_to_matrix
 from lowerlimb.errors import InputError
@@ -231,3 +237,25 @@ def test_both_legs_untwisted_share_one_pelvis_frame(twisted_walk):
     for side in ("left", "right"):
         twist = res.legs[side].calibration.thigh_twist
         assert twist is not None and 0.25 < twist.internal_per_flexion(side) < 0.42
+
+
+def test_a_twist_the_gyros_do_not_see_is_named():
+    tw = ThighTwist(
+        0.3, np.array([0.0, 1.0, 0.0]), np.array([0.0, 0.0, 1.0]), np.zeros(3), 18.0, 0.0, 0.1, 0.26
+    )
+    assert tw.confirmed(1.0 / 3.0) and not tw.confirmed(1.0)
+    assert not replace(tw, gyro_evidence=-0.26).confirmed(1.0 / 3.0)  # the other sign
+    assert not replace(tw, gyro_evidence=float("nan")).confirmed(0.0)
+    assert "too little knee motion" in unconfirmed_message(replace(tw, gyro_evidence=float("nan")))
+    assert "+0.30" in unconfirmed_message(replace(tw, gyro_evidence=0.02))
+
+
+def test_the_pipeline_warns_when_the_gyros_do_not_confirm_the_twist(twisted_walk):
+    trial = twisted_walk.trial.leg("right")
+    strict = CalibrationOptions(thigh_twist=True, thigh_twist_min_evidence=5.0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = ll.process_trial(trial, calibration_options=strict)
+    twist = res.calibration.thigh_twist
+    assert twist is not None and 0.2 < twist.gyro_evidence < 0.4  # measured 0.28 (0.34 found)
+    assert [w for w in caught if issubclass(w.category, ThighTwistWarning)]

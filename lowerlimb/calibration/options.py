@@ -311,6 +311,10 @@ class CalibrationOptions:
         thigh_twist_slope_deg: the mismatch per unit of twist assumed for the first step,
             degrees per rad/rad (45: between the simulator's 60 and the real walk's 30).
         thigh_twist_steps: at most this many secant steps.
+        thigh_twist_min_evidence: warn (``ThighTwistWarning``) when the thigh gyro alone sees less
+            than this share of the twist found, or the other sign
+            (:func:`~lowerlimb.calibration.thigh_twist.gyro_evidence`; simulated twists: 0.63–0.79,
+            the real walk: 0.86–0.88).
     """
 
     prefilter: bool = True
@@ -408,6 +412,7 @@ class CalibrationOptions:
     thigh_twist_max: float = 1.0
     thigh_twist_slope_deg: float = 45.0
     thigh_twist_steps: int = 5
+    thigh_twist_min_evidence: float = 1.0 / 3.0
 
     def __post_init__(self) -> None:
         if self.angacc_window_s <= 0:
@@ -524,10 +529,13 @@ class CalibrationOptions:
             and 0.0 < self.thigh_twist_max < math.inf
             and 0.0 < self.thigh_twist_slope_deg < math.inf
             and self.thigh_twist_steps >= 1
+            and 0.0 <= self.thigh_twist_min_evidence < math.inf
         ):
             raise InputError(
                 "thigh_twist_highpass_hz, thigh_twist_tol_deg, thigh_twist_max and thigh_twist_slope_deg "
-                "must be > 0, thigh_twist_min_mismatch_deg >= 0 and thigh_twist_steps >= 1, got "
+                "must be > 0, thigh_twist_min_mismatch_deg and thigh_twist_min_evidence >= 0 and "
+                "thigh_twist_steps >= 1, got "
                 f"{self.thigh_twist_highpass_hz}, {self.thigh_twist_tol_deg}, {self.thigh_twist_max}, "
-                f"{self.thigh_twist_slope_deg}, {self.thigh_twist_min_mismatch_deg}, {self.thigh_twist_steps}"
+                f"{self.thigh_twist_slope_deg}, {self.thigh_twist_min_mismatch_deg}, "
+                f"{self.thigh_twist_min_evidence}, {self.thigh_twist_steps}"
             )
