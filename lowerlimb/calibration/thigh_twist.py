@@ -27,7 +27,9 @@ Undone (:func:`untwist_signals`), with ``ω``, ``α`` the femur's rate and its d
 
 Estimated (:func:`estimate_thigh_twist`): ``k`` is the root of the standing knee axis mismatch
 of a calibration on the untwisted trial (secant steps from ``k = 0``); ``r₀`` is the hip centre's
-place across ``ê`` in a calibration on the trial untwisted in rotation only. On the simulator
+place across ``ê`` in a calibration on the trial untwisted in rotation only. The gyros' own view
+of the turn (:func:`gyro_evidence`) is recorded beside it and a twist it does not confirm is
+named (:class:`ThighTwistWarning`). On the simulator
 that returns the rigid results (``benchmarks/results/thigh_twist.md``); on the real walk it
 brings the two legs' pelvis frames together and the knee flexion nearer Vicon's, but puts both
 thighs 30–80 mm longer than Plug-in Gait's, so it is off by default
@@ -64,7 +66,7 @@ __all__ = [
 
 
 class ThighTwistWarning(UserWarning):
-    """The thigh twist undone is not what the gyros alone see (:attr:`ThighTwist.confirmed`)."""
+    """The thigh twist undone is not what the gyros alone see (:meth:`ThighTwist.confirmed`)."""
 
 
 def unconfirmed_message(twist: ThighTwist) -> str:
