@@ -42,3 +42,17 @@ def real_walk_leg_mapping(side: str) -> dict[str, str]:
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return dict(mod.leg_mapping(side))
+
+
+def true_leg(joints: dict[str, object]) -> object:
+    """A simulation truth's ``joints`` (``truth["legs"][side]["joints"]`` or ``truth["joints"]``)
+    as the hip/knee/ankle calibrations that :func:`lowerlimb.model.fallback.segment_lengths` reads."""
+    from types import SimpleNamespace
+
+    from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
+
+    return SimpleNamespace(
+        hip=SphericalJointCalibration.from_dict(joints["hip"], "hip"),  # type: ignore[arg-type]
+        knee=HingeJointCalibration.from_dict(joints["knee"], "knee"),  # type: ignore[arg-type]
+        ankle=SphericalJointCalibration.from_dict(joints["ankle"], "ankle"),  # type: ignore[arg-type]
+    )

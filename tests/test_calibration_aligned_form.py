@@ -7,11 +7,12 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from simcache import true_leg
 
 from lowerlimb.calibration.aligned_form import AlignedFit, AlignedSettings, aligned_centres
 from lowerlimb.calibration.leg import LegCalibration, calibrate_leg
 from lowerlimb.calibration.options import CalibrationOptions
-from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
+from lowerlimb.calibration.results import SphericalJointCalibration
 from lowerlimb.errors import InputError
 from lowerlimb.model.fallback import segment_lengths
 from lowerlimb.simulation import BilateralSimulation, simulate_bilateral
@@ -24,12 +25,7 @@ def _walk() -> BilateralSimulation:
 
 
 def _true_leg(sim: BilateralSimulation, side: str) -> SimpleNamespace:
-    j = sim.truth["legs"][side]["joints"]
-    return SimpleNamespace(
-        hip=SphericalJointCalibration.from_dict(j["hip"], "hip"),
-        knee=HingeJointCalibration.from_dict(j["knee"]),
-        ankle=SphericalJointCalibration.from_dict(j["ankle"], "ankle"),
-    )
+    return true_leg(sim.truth["legs"][side]["joints"])  # type: ignore[return-value]
 
 
 def _length_errors_mm(cal: LegCalibration, truth: SimpleNamespace) -> np.ndarray:

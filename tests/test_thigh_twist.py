@@ -8,7 +8,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from simcache import data_dir, real_walk_leg_mapping
+from simcache import data_dir, real_walk_leg_mapping, true_leg
 
 import lowerlimb as ll
 from lowerlimb.calibration.leg import LegCalibration
@@ -82,7 +82,7 @@ def test_the_twist_is_found_and_undone_on_a_simulated_walk(twisted_walk, side):
     sim = twisted_walk
     trial = sim.trial.leg(side)
     joints = sim.truth["legs"][side]["joints"]
-    truth = np.array(segment_lengths(_true_leg(joints)))
+    truth = np.array(segment_lengths(true_leg(joints)))
     i = ("left", "right").index(side)
     keep = sim.trial.time_s > 3.0
 
@@ -104,18 +104,6 @@ def test_the_twist_is_found_and_undone_on_a_simulated_walk(twisted_walk, side):
     # undone: lengths and knee rotation as on rigid sensors (measured: 30-60 mm and 8 deg before)
     assert np.max(np.abs(err_off)) > 20 and rot_off > 5
     assert np.max(np.abs(err_on)) < 10 and rot_on < 3
-
-
-def _true_leg(joints):
-    from types import SimpleNamespace
-
-    from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
-
-    return SimpleNamespace(
-        hip=SphericalJointCalibration.from_dict(joints["hip"], "hip"),
-        knee=HingeJointCalibration.from_dict(joints["knee"], "knee"),
-        ankle=SphericalJointCalibration.from_dict(joints["ankle"], "ankle"),
-    )
 
 
 def test_a_rigid_walk_is_left_as_it_is():

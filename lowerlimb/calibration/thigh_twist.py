@@ -249,14 +249,15 @@ def gyro_evidence(trial: ImuTrial, calibration: LegCalibration, n_still: int) ->
     sos = butter(4, min(4.0, 0.4 * trial.rate_hz), fs=trial.rate_hz, output="sos")
     axes = {"thigh": calibration.knee.axis_in_parent_sensor, "shank": calibration.knee.axis_in_child_sensor}
     rate: dict[str, tuple[FloatArray, FloatArray]] = {}
-    moving = np.zeros(0, dtype=bool)
+    speed: dict[str, FloatArray] = {}
     for s, axis in axes.items():
         g = np.asarray(trial.gyr[s], dtype=float)
         g = sosfiltfilt(sos, g - g[:n].mean(axis=0), axis=0)
         up = _unit(np.asarray(trial.acc[s][:n], dtype=float).mean(axis=0))
         j = np.asarray(axis, dtype=float)
         rate[s] = (g @ up, g @ _unit(j - (j @ up) * up))
-        moving = np.linalg.norm(g, axis=1) > 0.5  # the shank's, the last
+        speed[s] = np.linalg.norm(g, axis=1)
+    moving = speed["shank"] > 0.5
     if moving.sum() < 10:
         return float("nan")
     x = np.column_stack([rate["thigh"][1], rate["shank"][1] - rate["thigh"][1]])[moving]
