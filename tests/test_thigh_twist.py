@@ -247,3 +247,12 @@ def test_the_pipeline_warns_when_the_gyros_do_not_confirm_the_twist(twisted_walk
     twist = res.calibration.thigh_twist
     assert twist is not None and 0.2 < twist.gyro_evidence < 0.4  # measured 0.28 (0.34 found)
     assert [w for w in caught if issubclass(w.category, ThighTwistWarning)]
+
+
+@pytest.mark.parametrize("bad", [[0.0, 1.0], [0.0, 0.0, 0.0], [0.0, float("inf"), 1.0]])
+def test_a_malformed_twist_record_is_refused_by_name(bad):
+    doc = ThighTwist(
+        0.3, np.array([0.0, 1.0, 0.0]), np.array([0.0, 0.0, 1.0]), np.zeros(3), 18.0, 0.0, 0.1
+    ).to_dict()
+    with pytest.raises(InputError, match="thigh_twist.axis_in_sensor must be three finite numbers"):
+        ThighTwist.from_dict(doc | {"axis_in_sensor": bad})

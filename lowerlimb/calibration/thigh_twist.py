@@ -47,6 +47,7 @@ from scipy.signal import butter, sosfiltfilt
 from scipy.spatial.transform import Rotation
 
 from ..conventions import FloatArray
+from ..errors import InputError
 from ..io.trial import ImuTrial
 from .knee_line import standing_axis_mismatch
 from .options import CalibrationOptions
@@ -139,12 +140,27 @@ class ThighTwist:
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> ThighTwist:
-        """Inverse of :meth:`to_dict`."""
+        """Inverse of :meth:`to_dict`.
+
+        Raises:
+            InputError: a vector that is not three finite numbers (the axes also not zero).
+        """
+
+        def vector(key: str, unit: bool) -> FloatArray:
+            v = np.asarray(d[key], dtype=float)
+            if v.shape != (3,) or not np.all(np.isfinite(v)) or (unit and not np.any(v)):
+                raise InputError(
+                    f"calibration document: thigh_twist.{key} must be three finite numbers"
+                    + (" (not all zero)" if unit else "")
+                    + f", got {d[key]!r}"
+                )
+            return np.asarray(v / np.linalg.norm(v) if unit else v, dtype=float)
+
         return cls(
             per_flexion=float(d["per_flexion_rad_per_rad"]),
-            axis_in_sensor=np.asarray(d["axis_in_sensor"], dtype=float),
-            flexion_axis_in_sensor=np.asarray(d["flexion_axis_in_sensor"], dtype=float),
-            offset_from_axis_m=np.asarray(d["offset_from_axis_m"], dtype=float),
+            axis_in_sensor=vector("axis_in_sensor", unit=True),
+            flexion_axis_in_sensor=vector("flexion_axis_in_sensor", unit=True),
+            offset_from_axis_m=vector("offset_from_axis_m", unit=False),
             mismatch_before_deg=float(d.get("mismatch_before_deg", float("nan"))),
             mismatch_after_deg=float(d.get("mismatch_after_deg", float("nan"))),
             highpass_hz=float(d.get("highpass_hz", 0.1)),
