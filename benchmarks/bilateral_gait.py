@@ -171,7 +171,8 @@ def score_strides(result: Any, vicon: dict, ge: ModuleType) -> dict[str, Any]:
     return {"stride_length_err_pct": _stats(sl), "step_width_err_mm": _stats(sw), "strides": rows}
 
 
-def run(data: Path) -> dict[str, Any]:
+def run(data: Path, thigh_twist: bool = False) -> dict[str, Any]:
+    """Both legs of the real walk through ``calibrate`` (``--thigh-twist`` when ``thigh_twist``), scored."""
     vicon = load_vicon(data)
     ge = _gait_events_module()
     res: dict[str, Any] = {"goals": GOALS}
@@ -180,7 +181,8 @@ def run(data: Path) -> dict[str, Any]:
         load_xsens(raw_dir(data), IDS).to_csv(csv)
         t = time.perf_counter()
         try:
-            result = run_calibrate_bilateral(CalibrateOptions(trial=csv, out=Path(tmp) / "out"))
+            options = CalibrateOptions(trial=csv, out=Path(tmp) / "out", thigh_twist=thigh_twist)
+            result = run_calibrate_bilateral(options)
         except Exception as e:  # noqa: BLE001 - a benchmark records any failure
             return res | {"both_legs_calibrate": False, "error": f"{type(e).__name__}: {e}"}
         res["wall_s"] = time.perf_counter() - t

@@ -28,7 +28,6 @@ import os
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import argparse
-import functools
 import sys
 import warnings
 from collections.abc import Callable
@@ -161,13 +160,8 @@ def real_one_leg(data: Path) -> list[dict[str, Any]]:
 
 def real_two_legs(data: Path) -> dict[str, Any]:
     out = {}
-    original = bilateral_gait.CalibrateOptions
     for label, twist in (("off", False), ("on", True)):
-        bilateral_gait.CalibrateOptions = functools.partial(original, thigh_twist=twist)  # type: ignore[misc]
-        try:
-            res = _quiet(bilateral_gait.run, data)
-        finally:
-            bilateral_gait.CalibrateOptions = original  # type: ignore[misc]
+        res = _quiet(bilateral_gait.run, data, thigh_twist=twist)
         legs = res["legs"]
         out[label] = {
             "legs": {
