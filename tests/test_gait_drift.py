@@ -114,21 +114,30 @@ def test_too_few_steps_or_switched_off_leave_the_tracks():
     assert fit_track_drift(t, nan, u, 0.5, GaitParams()) is None
 
 
-def test_step_geometry_survives_a_drifting_track():
-    """The right foot's track drifts 2 cm/s forward and 1 cm/s sideways; an exact chain undoes it."""
+@pytest.mark.parametrize("side", ["right", "left"])
+def test_step_geometry_survives_a_drifting_track(side):
+    """One foot's track drifts 2 cm/s forward and 1 cm/s sideways; an exact chain at that
+    foot's contacts undoes it, whichever foot it is."""
     ev, trl, trr = _both()
     anchor = FootAnchor(time_s=0.5, forward_m=0.0, left_m=-W)
     exact = compute_gait_parameters(ev, trl, trr, anchor=anchor)
-    t = np.arange(trr.position_m.shape[0]) / RATE
-    drifted = replace(trr, position_m=trr.position_m + np.column_stack([0.02 * t, 0.01 * t, 0 * t]))
-    assert ev.right is not None
-    k = np.round((ev.right.initial_contact_s + 0.05) * RATE).astype(int)
-    d = trr.position_m[k] - trl.position_m[k]
-    chain = ChainSteps(ev.right.initial_contact_s, d[:, 0] + 0.05, d[:, 1] - 0.2)  # biased, along x
-    p = GaitParams(chain_drift_knot_s=2.0, chain_drift_min_steps=3)
-    lost = compute_gait_parameters(ev, trl, drifted, anchor=anchor, params=p)
-    found = compute_gait_parameters(ev, trl, drifted, anchor=anchor, chain=chain, params=p)
+    mine, other = (trr, trl) if side == "right" else (trl, trr)
+    t = np.arange(mine.position_m.shape[0]) / RATE
+    drifted = replace(mine, position_m=mine.position_m + np.column_stack([0.02 * t, 0.01 * t, 0 * t]))
+    contacts = getattr(ev, side)
+    assert contacts is not None
+    k = np.round((contacts.initial_contact_s + 0.05) * RATE).astype(int)
+    d = mine.position_m[k] - other.position_m[k]
+    chain = ChainSteps(contacts.initial_contact_s, d[:, 0] + 0.05, d[:, 1] - 0.2, side=side)  # biased
+    # knots 3 s apart: the left foot's first usable chain step (2.7 s; at 1.5 s the right foot
+    # has no contact yet) must come before the second knot, or on this straight five-step walk
+    # the chain's bias and the drift's first slope cannot be told apart (2 s: 47 mm off)
+    p = GaitParams(chain_drift_knot_s=3.0, chain_drift_min_steps=3)
+    tracks = (trl, drifted) if side == "right" else (drifted, trr)
+    lost = compute_gait_parameters(ev, *tracks, anchor=anchor, params=p)
+    found = compute_gait_parameters(ev, *tracks, anchor=anchor, chain=[chain], params=p)
     assert found.track_drift is not None and lost.track_drift is None
+    assert found.track_drift.moving_side == side
 
     def steps(gp):
         rows = [(s.step_length_m, s.step_width_m) for s in gp.strides]
@@ -143,6 +152,7 @@ def test_step_geometry_survives_a_drifting_track():
     assert np.linalg.norm(record["knot_offset_m"][0]) < 0.01  # the exact anchor barely moves
     assert record["steps_used"] == found.track_drift.steps_used and lost.to_dict()["track_drift"] is None
     assert set(record) == {
+        "moving_side",
         "max_m",
         "knot_time_s",
         "knot_offset_m",

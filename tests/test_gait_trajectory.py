@@ -183,7 +183,7 @@ def test_feet_on_a_bending_walk_are_not_turned_against_each_other(radius_m):
     mid-time leaves none."""
     from lowerlimb.conventions import rot_z
     from lowerlimb.gait.contacts import Contacts
-    from lowerlimb.gait.parameters import _pair_yaw_samples
+    from lowerlimb.gait.placement import _pair_yaw_samples
 
     R, step = abs(radius_m), np.sign(radius_m) * (L / 2) / abs(radius_m)  # angle per step, rad
 
@@ -201,11 +201,11 @@ def test_feet_on_a_bending_walk_are_not_turned_against_each_other(radius_m):
         )
 
     left, right = contacts(0, -W / 2), contacts(1, W / 2)
-    rows = _pair_yaw_samples(left, None, right, None, GaitParams())  # type: ignore[arg-type]
+    rows = _pair_yaw_samples(left, right, GaitParams())
     assert rows.shape[0] >= 15
     # half a stride's turn: 2.5° at 15 m, 0.9° at 40 m; now below a hundredth of that
     assert np.max(np.abs(np.rad2deg(rows[:, 1]))) < 0.01 * np.rad2deg(abs(step))
-    overlap = _pair_yaw_samples(left, None, right, None, GaitParams(pair_yaw_at_mid_time=False))  # type: ignore[arg-type]
+    overlap = _pair_yaw_samples(left, right, GaitParams(pair_yaw_at_mid_time=False))
     assert np.median(np.abs(overlap[:, 1])) == pytest.approx(abs(step), rel=0.05)  # half a stride
 
 

@@ -15,10 +15,10 @@ The :mod:`lowerlimb.gait` stages, fed with what the calibration knows:
    :attr:`GaitParams.max_standing_leg_tilt_deg` is taken as vertical),
    turned into the earth frame with the pelvis orientation, at the last double-support
    instant (both feet stationary) before the first initial contact, in the walking
-   coordinates of the left foot's next stride;
-4. the chain's right-minus-left ankle vector at every right initial contact
-   (:func:`~lowerlimb.bilateral.chain_steps.chain_steps`), which removes the slow drift
-   of one foot's track against the other (:mod:`lowerlimb.gait.drift`);
+   coordinates of the two feet's next strides (their mean direction);
+4. the chain's ankle vector at every initial contact, that foot minus the other
+   (:func:`~lowerlimb.bilateral.chain_steps.chain_steps`, both feet), which removes the slow
+   drift of one foot's track against the other (:mod:`lowerlimb.gait.drift`);
 5. :func:`~lowerlimb.gait.compute_gait_parameters`.
 """
 
@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from ..conventions import FloatArray, quat_to_matrix
+from ..conventions import SIDES, FloatArray, quat_to_matrix
 from ..gait import (
     FootAnchor,
     FootTrajectory,
@@ -44,8 +44,8 @@ from ..gait import (
     detect_gait_events,
     foot_contacts,
     integrate_foot,
-    walking_direction,
 )
+from ..gait.placement import mean_walking_direction
 from ..pipeline import TrialResult
 from .chain_steps import chain_steps
 
@@ -138,7 +138,7 @@ def chain_anchor(
 
     Returns:
         The anchor, or ``None`` when the feet never rest together before the first step
-        or the left foot has no stride. Only a standing start anchors: anchored where a
+        or neither foot has a stride. Only a standing start anchors: anchored where a
         walk ends (two passes and a turn later), the real walk of ``gait/`` cut mid-stride
         had its step width 94-145 mm off Vicon's (65 mm uncut), against 17 mm from its
         standing start (``benchmarks/results/cut_start.md``); during walking the chain's
@@ -166,10 +166,11 @@ def chain_anchor(
             leg = (leg @ down) * down
         ankle[s] = np.asarray(r.calibration.hip.center_in_parent_sensor, dtype=float) + leg
     d = R_pelvis @ (ankle["right"] - ankle["left"])
-    cl = foot_contacts(
-        trajectories["left"], events.left.initial_contact_s, np.zeros(3), 0.5 * params.max_stride_time_s
+    cl, cr = (
+        foot_contacts(trajectories[s], ev.initial_contact_s, np.zeros(3), 0.5 * params.max_stride_time_s)
+        for s, ev in (("left", events.left), ("right", events.right))
     )
-    u = walking_direction(cl, k / rate)
+    u = mean_walking_direction(cl, cr, k / rate)
     if u is None:
         return None
     return FootAnchor(time_s=k / rate, forward_m=float(d[:2] @ u), left_m=float(-u[1] * d[0] + u[0] * d[1]))
@@ -235,7 +236,7 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
             UnanchoredFeetWarning,
             stacklevel=2,
         )
-    chain = chain_steps(legs, events, p_ankle)
+    chain = [c for c in (chain_steps(legs, events, p_ankle, side) for side in SIDES) if c is not None]
     parameters = compute_gait_parameters(
         events, trajs["left"], trajs["right"], anchor=anchor, chain=chain, params=p_ankle
     )

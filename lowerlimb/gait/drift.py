@@ -1,23 +1,23 @@
 """The slow drift of one foot's track against the other, removed with the calibrated chain.
 
 Each foot is integrated on its own (:mod:`lowerlimb.gait.trajectory`); after the
-right track is turned onto the left one and anchored to it once
-(:mod:`lowerlimb.gait.parameters`), the two still drift apart: a small difference in
-the feet's scale or heading errors grows with the distance walked. On a simulated
-10-minute walk the right foot fell behind the left one by a metre, and step width
-and step length were lost.
+moving foot's track is turned onto the reference one and anchored to it once
+(:mod:`lowerlimb.gait.placement`, which does it both ways: right onto left and left onto
+right), the two still drift apart: a small difference in the feet's scale or heading errors
+grows with the distance walked. On a simulated 10-minute walk the right foot fell behind the
+left one by a metre, and step width and step length were lost.
 
-The calibrated chain (pelvis, hips, both legs) gives the right-minus-left ankle vector
-at every right initial contact, in the walking frame of the left foot's stance, with
-no drift at all, but with a bias: on the real walk of ``gait/`` its lateral part is
-20 cm off Vicon's. So the chain is used only for what changes over time. With
-``o_i = chain_i − track_i`` the chain-minus-track vectors (earth frame of the left
-track) at the right contacts ``t_i``, the model is
+The calibrated chain (pelvis, hips, both legs) gives the moving-minus-reference ankle vector
+at every initial contact of the moving foot, in the walking frame of the reference foot's
+stance, with no drift at all, but with a bias: on the real walk of ``gait/`` its lateral
+part is 20 cm off Vicon's. So the chain is used only for what changes over time. With
+``o_i = chain_i − track_i`` the chain-minus-track vectors (earth frame of the reference
+track) at the moving foot's contacts ``t_i``, the model is
 
     o_i = R(ψ_i) b + F(t_i) + e_i,
 
 ``b`` the chain's constant bias in the walking frame (forward, left), ``R(ψ_i)`` the
-left stride's walking direction, and ``F`` a piecewise-linear drift with knots every
+reference stride's walking direction, and ``F`` a piecewise-linear drift with knots every
 :attr:`GaitParams.chain_drift_knot_s` from the anchor. Consecutive knots get a Gaussian
 prior of :attr:`GaitParams.chain_drift_sd_m`, and the knot at the anchor itself one of
 :attr:`GaitParams.chain_anchor_sd_m`: the standing anchor has an error of its own (the
@@ -32,7 +32,7 @@ pinned: 15 / 20 mm from the later knots). Against ``F`` pinned to zero at the an
 from 113 to 46 mm worst (a 5 cm prior: 10.6 / 41 mm); on eight 5- and 10-minute walks,
 steady or changing pace, the median of their medians from 9.8 to 9.2 mm and the 10-minute
 walk's worst from 129 to 57 mm (one 5-minute walk loses 2 mm: 6.6 → 8.7).
-Large residuals (turning steps, a stumble) are down-weighted by Huber weights. The right
+Large residuals (turning steps, a stumble) are down-weighted by Huber weights. The moving
 track then moves by ``F(t)``.
 """
 
@@ -46,39 +46,42 @@ from lowerlimb.conventions import FloatArray
 from lowerlimb.gait.contacts import Contacts, heading_change_rad
 from lowerlimb.gait.params import GaitParams
 
-__all__ = ["ChainSteps", "TrackDrift", "fit_track_drift", "right_track_drift"]
+__all__ = ["ChainSteps", "TrackDrift", "fit_track_drift", "track_drift"]
 
 _MIN_SD_M = 1e-4  # floor of the residual scale (an exact chain in tests), m
 
 
 @dataclass(frozen=True)
 class ChainSteps:
-    """The calibrated chain's right-minus-left ankle vector at right initial contacts.
+    """The calibrated chain's ankle vector at one foot's initial contacts: that foot minus the other.
 
     Attributes:
-        time_s: (M,) right initial-contact times, s from sample 0.
-        forward_m: (M,) component along the walking direction of the left foot's
+        time_s: (M,) initial-contact times of ``side``, s from sample 0.
+        forward_m: (M,) component along the walking direction of the other foot's
             stance (the stance ankle's path under the pelvis), m.
         left_m: (M,) component along up × forward (to the walker's left), m.
+        side: the foot making contact (``"right"``: right minus left at right contacts).
     """
 
     time_s: FloatArray
     forward_m: FloatArray
     left_m: FloatArray
+    side: str = "right"
 
 
 @dataclass(frozen=True)
 class TrackDrift:
-    """The fitted drift of the right track against the left one.
+    """The fitted drift of the moving foot's track against the reference one (``gait.placement``).
 
     Attributes:
         knot_time_s: (K,) knot times, s from sample 0; the first is the anchor's.
-        knot_offset_m: (K, 2) drift ``F`` at the knots, earth frame of the left track
+        knot_offset_m: (K, 2) drift ``F`` at the knots, earth frame of the reference track
             (horizontal), m; the first row is the anchor's correction (zero when pinned).
         chain_bias_m: (2,) the chain's constant offset (forward, left) against the
             anchored tracks, m.
         residual_sd_m: robust SD of the chain-minus-track residuals, m.
         steps_used: number of chain steps fitted.
+        moving_side: the foot whose track moved (``"right"``: against the left one).
     """
 
     knot_time_s: FloatArray
@@ -86,6 +89,7 @@ class TrackDrift:
     chain_bias_m: FloatArray
     residual_sd_m: float
     steps_used: int
+    moving_side: str = "right"
 
     def at(self, time_s: FloatArray) -> FloatArray:
         """(N, 2) drift at ``time_s`` (s), m; constant before the anchor and after the last knot."""
@@ -100,6 +104,7 @@ class TrackDrift:
     def to_dict(self) -> dict[str, object]:
         """``gait.json``'s ``track_drift``: the knots, the chain's bias and the fit's residual."""
         return {
+            "moving_side": self.moving_side,
             "max_m": self.max_m,
             "knot_time_s": [float(t) for t in self.knot_time_s],
             "knot_offset_m": [[float(x), float(y)] for x, y in self.knot_offset_m],
@@ -127,8 +132,8 @@ def fit_track_drift(
 
     Args:
         time_s: (M,) times of the chain steps, s from sample 0.
-        offset_m: (M, 2) chain minus track vectors, earth frame of the left track, m.
-        walking_dir: (M, 2) unit walking directions of the left strides, same frame.
+        offset_m: (M, 2) chain minus track vectors, earth frame of the reference track, m.
+        walking_dir: (M, 2) unit walking directions of the reference strides, same frame.
         anchor_time_s: where the drift is pinned to zero, s.
         params: ``chain_drift_knot_s``, ``chain_drift_sd_m``, ``chain_drift_min_steps``,
             ``chain_drift_huber``.
@@ -212,15 +217,15 @@ def _robust_sd(r: FloatArray) -> float:
     return float(1.4826 * np.median(np.abs(r)))
 
 
-def right_track_drift(
+def track_drift(
     cl: Contacts, cr: Contacts, chain: ChainSteps, anchor_time_s: float, p: GaitParams
 ) -> TrackDrift | None:
-    """The right track's drift from the chain steps at right contacts on straight left strides.
+    """The moving track's drift from the chain steps at its contacts on straight reference strides.
 
     Args:
-        cl: left contacts (the reference track).
-        cr: right contacts, turned onto the left track and anchored.
-        chain: the chain's right-minus-left ankle vectors at right contacts.
+        cl: the reference foot's contacts (its track is kept).
+        cr: the moving foot's contacts, turned onto the reference track and anchored.
+        chain: the chain's moving-minus-reference ankle vectors at the moving foot's contacts.
         anchor_time_s: where the drift is pinned to zero, s from sample 0.
         p: ``turn_heading_deg`` and the ``chain_drift_*`` thresholds.
 

@@ -21,56 +21,38 @@ turning strides are summarised apart from the straight ones. A step is straight
 when the other leg's stride P → N is.
 
 Step length and width need both feet in one horizontal frame. Each foot is
-integrated on its own, so (i) the right trajectory is rotated about the
-vertical onto the left one, stride by stride, by the kernel-weighted circular
-mean (:attr:`GaitParams.pair_yaw_window_s`) of the heading differences of
-simultaneous straight strides (both feet walk the same way; the two feet's
-headings drift apart by degrees over minutes, which a single rotation would
-turn into decimetres of step width). Each right stride is compared with the left
-heading interpolated at its own mid-time (:attr:`GaitParams.pair_yaw_at_mid_time`):
-on a bending walk the overlapping left stride is half a stride's turn away, always
-on one side, and that bias drifted a 5-minute walk's step width by 2 m. (ii) The
-remaining translation is unobservable from foot IMUs alone: it comes from a
-:class:`FootAnchor` (e.g. from the calibrated chain, or a standing posture).
-Without an anchor, step length and step width are NaN (``null`` in JSON). (iii) Given
-the chain's right-minus-left ankle vectors at the right contacts, the slow drift that
-remains between the tracks is removed (:mod:`lowerlimb.gait.drift`); each foot's stride
-length stays its own track's.
+integrated on its own, so one foot's track is placed on the other's
+(:mod:`lowerlimb.gait.placement`): turned about the vertical stride by stride by the
+heading differences of simultaneous straight strides, shifted to where a
+:class:`FootAnchor` puts it (the translation is unobservable from foot IMUs alone;
+without an anchor, step length and step width are NaN, ``null`` in JSON), and, given the
+chain's ankle vectors at that foot's contacts, freed of the slow drift that remains
+(:mod:`lowerlimb.gait.drift`). This is done both ways, the right track onto the left and the
+left onto the right, and the step length and width are the mean of the two placements (a
+placement the chain de-drifted is preferred to one it could not): which leg is called right
+changes nothing, and a mirror-image walk gives the same steps. Each foot's stride length
+and turning stay its own track's.
 """
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field, replace
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
 
-from lowerlimb.conventions import FloatArray, rot_z
-from lowerlimb.gait.contacts import Contacts, foot_contacts, heading_change_rad, walking_direction
-from lowerlimb.gait.drift import ChainSteps, TrackDrift, right_track_drift
+from lowerlimb.conventions import FloatArray
+from lowerlimb.gait.contacts import Contacts, foot_contacts, heading_change_rad
+from lowerlimb.gait.drift import ChainSteps, TrackDrift
 from lowerlimb.gait.events import GaitEvents, SideEvents
 from lowerlimb.gait.params import GaitParams
+from lowerlimb.gait.placement import FootAnchor, Placement, place_track, relative_heading_rad
 from lowerlimb.gait.trajectory import FootTrajectory
 
 __all__ = ["FootAnchor", "GaitParameters", "Stride", "compute_gait_parameters"]
 
 _SIDES = ("left", "right")
-
-
-@dataclass(frozen=True)
-class FootAnchor:
-    """Right-foot point minus left-foot point at one instant with both feet resting.
-
-    Attributes:
-        time_s: The instant, s.
-        forward_m: Component along the walking direction of the left foot's next straight stride, m.
-        left_m: Component along up × forward (to the walker's left), m; negative for a right
-            foot standing to the right of the left one.
-    """
-
-    time_s: float
-    forward_m: float
-    left_m: float
 
 
 @dataclass(frozen=True)
@@ -111,8 +93,9 @@ class GaitParameters:
         event_sources: ``{side: {"initial_contact": method, "toe_off_from_foot": n,
             "toe_off_from_foot_rate": n, "toe_off_from_shank": n}}``: where each leg's events came from
             (:class:`~lowerlimb.gait.events.SideEvents`).
-        track_drift: the drift of the right track against the left one removed with the
-            calibrated chain (:mod:`lowerlimb.gait.drift`), or ``None``.
+        track_drift: the drift of one foot's track against the other's removed with the
+            calibrated chain (:mod:`lowerlimb.gait.drift`): the right one's against the left
+            when both placements had one (:mod:`lowerlimb.gait.placement`), or ``None``.
     """
 
     strides: list[Stride]
@@ -216,126 +199,13 @@ def _temporal(ev: SideEvents, other: SideEvents | None, k: int, p: GaitParams) -
     return out
 
 
-def _pair_yaw_samples(
-    cl: Contacts, evl: SideEvents, cr: Contacts, evr: SideEvents, p: GaitParams
-) -> FloatArray:
-    """(M, 3) rows ``(time s, left − right stride direction rad, weight m²)`` of overlapping strides."""
-    thr = np.deg2rad(p.turn_heading_deg)
-
-    def straight(c: Contacts) -> list[tuple[float, float, FloatArray]]:
-        out = []
-        for k in range(len(c.time_s) - 1):
-            d = c.position_m[k + 1, :2] - c.position_m[k, :2]
-            dt = c.time_s[k + 1] - c.time_s[k]
-            if not np.all(np.isfinite(d)) or dt > p.max_stride_time_s:
-                continue
-            if abs(heading_change_rad(c.R_earth_sensor[k], c.R_earth_sensor[k + 1])) > thr:
-                continue
-            out.append((float(c.time_s[k]), float(c.time_s[k + 1]), d))
-        return out
-
-    sl, sr = straight(cl), straight(cr)
-    mid_l = np.array([0.5 * (b0 + b1) for b0, b1, _ in sl])
-    head_l = np.array([np.arctan2(d[1], d[0]) for *_, d in sl])
-    rows = []
-    for a0, a1, dr in sr:
-        ov = [min(a1, b1) - max(a0, b0) for b0, b1, _ in sl]
-        if not ov or max(ov) <= 0:
-            continue
-        i = int(np.argmax(ov))
-        tm = 0.5 * (a0 + a1)
-        left = _left_heading_at(tm, i, mid_l, head_l, p) if p.pair_yaw_at_mid_time else head_l[i]
-        ang = left - np.arctan2(dr[1], dr[0])
-        rows.append((tm, float(ang), float(np.linalg.norm(sl[i][2]) * np.linalg.norm(dr))))
-    return np.asarray(rows, dtype=float).reshape(-1, 3)
-
-
-def _left_heading_at(tm: float, i: int, mid: FloatArray, heading: FloatArray, p: GaitParams) -> float:
-    """The left foot's stride heading at time ``tm`` (s), rad.
-
-    From its stride ``i`` (the most overlapping) and a neighbour: interpolated between
-    them, extrapolated at the walk's ends. ``mid`` (s) and ``heading`` (rad) are the left
-    straight strides' mid-times and directions.
-    """
-    order = (i + 1, i - 1) if mid[i] < tm else (i - 1, i + 1)
-    near = [j for j in order if 0 <= j < len(mid) and 0 < abs(mid[j] - mid[i]) <= p.max_stride_time_s]
-    if not near:
-        return float(heading[i])
-    j = near[0]
-    dh = float(np.angle(np.exp(1j * (heading[j] - heading[i]))))
-    return float(heading[i] + dh * (tm - mid[i]) / (mid[j] - mid[i]))
-
-
-def _yaw_at(samples: FloatArray, t: FloatArray, window_s: float) -> FloatArray:
-    """Right-onto-left heading (rad) at times ``t`` (s): kernel-weighted circular mean of ``samples``.
-
-    A Gaussian kernel of ``window_s`` (s) follows the slow heading drift between the two
-    feet; a tenth of the whole-walk mean keeps it defined far from straight strides.
-    ``window_s = inf`` gives the whole-walk mean everywhere.
-    """
-    ts, ang, w = samples[:, 0], samples[:, 1], samples[:, 2]
-    S0, C0 = float(np.sum(w * np.sin(ang))), float(np.sum(w * np.cos(ang)))
-    t = np.atleast_1d(np.asarray(t, dtype=float))
-    if not np.isfinite(window_s):
-        return np.full(t.shape, np.arctan2(S0, C0))
-    K = w[None, :] * np.exp(-0.5 * ((t[:, None] - ts[None, :]) / window_s) ** 2)
-    S = K @ np.sin(ang) + 0.1 * S0 / max(len(ang), 1)
-    C = K @ np.cos(ang) + 0.1 * C0 / max(len(ang), 1)
-    return np.asarray(np.arctan2(S, C))
-
-
-def _rotate_track(
-    time_s: FloatArray,
-    pos: FloatArray,
-    anchor_t: float,
-    anchor_p: FloatArray,
-    yaw: FloatArray,
-    yaw_anchor: float,
-) -> tuple[FloatArray, FloatArray]:
-    """Contact positions (K, 3) and the anchor point (3,) with each step turned by its own yaw.
-
-    The points, the anchor included, are chained in time order; each increment between
-    consecutive finite points is turned about the vertical by the yaw at its later end,
-    so a slowly varying heading error between the feet is undone stride by stride.
-    """
-    times = np.concatenate([[anchor_t], time_s])
-    pts = np.vstack([anchor_p[None, :], pos])
-    yaws = np.concatenate([[yaw_anchor], yaw])
-    order = np.argsort(times, kind="stable")
-    out = np.full_like(pts, np.nan)
-    last_raw = last_out = None
-    for i in order:
-        if not np.all(np.isfinite(pts[i])):
-            continue
-        R = rot_z(yaws[i])
-        out[i] = R @ pts[i] if last_raw is None else last_out + R @ (pts[i] - last_raw)
-        last_raw, last_out = pts[i], out[i]
-    return out[1:], out[0]
-
-
-def _anchor_shift(
-    trl: FootTrajectory, cl: Contacts, pr_k: FloatArray, anchor: FootAnchor, offset: FloatArray
-) -> FloatArray:
-    """Horizontal translation putting the right foot (``pr_k`` at the anchor time) where the anchor says."""
-    k = int(np.clip(round(anchor.time_s * trl.rate_hz), 0, trl.position_m.shape[0] - 1))
-    pl = trl.point_m(offset)[k]
-    u = walking_direction(cl, anchor.time_s)
-    if u is None:
-        return np.full(3, np.nan)
-    left = np.array([-u[1], u[0]])
-    target = pl[:2] + anchor.forward_m * u + anchor.left_m * left
-    shift = np.zeros(3)
-    shift[:2] = target - pr_k[:2]
-    return shift
-
-
 def compute_gait_parameters(
     events: GaitEvents,
     left: FootTrajectory | None = None,
     right: FootTrajectory | None = None,
     *,
     anchor: FootAnchor | None = None,
-    chain: ChainSteps | None = None,
+    chain: ChainSteps | Sequence[ChainSteps] | None = None,
     params: GaitParams | None = None,
 ) -> GaitParameters:
     """Spatio-temporal parameters of every stride.
@@ -345,9 +215,10 @@ def compute_gait_parameters(
         left: Left foot trajectory (for lengths and turn detection), or ``None``.
         right: Right foot trajectory, or ``None``.
         anchor: Right-minus-left foot offset at one instant, needed for step length/width.
-        chain: The calibrated chain's right-minus-left ankle vectors at right contacts; with
-            an anchor, the slow drift between the two tracks is removed with them
-            (:mod:`lowerlimb.gait.drift`).
+        chain: The calibrated chain's ankle vectors at one foot's contacts (that foot minus
+            the other; :class:`~lowerlimb.gait.drift.ChainSteps`), for either foot or both;
+            with an anchor, the slow drift between the two tracks is removed with them
+            (:mod:`lowerlimb.gait.drift`) in the placement whose moving foot they belong to.
         params: Thresholds (``turn_heading_deg``, ``sensor_to_ankle_m``, ``max_stride_time_s``,
             ``max_ds_fraction``; defaults: :class:`GaitParams`).
 
@@ -363,36 +234,10 @@ def compute_gait_parameters(
         ev, tr = evs[side], trajs[side]
         if ev is not None and tr is not None:
             contacts[side] = foot_contacts(tr, ev.initial_contact_s, offset, 0.5 * p.max_stride_time_s)
-    own = dict(contacts)  # each foot's own track: its stride lengths owe nothing to the other foot
+    placements = _placements(contacts, trajs, anchor, chain, offset, p)
     yaw = float("nan")
-    anchored = False
-    drift: TrackDrift | None = None
-    if "left" in contacts and "right" in contacts and events.left and events.right and left and right:
-        samples = _pair_yaw_samples(contacts["left"], events.left, contacts["right"], events.right, p)
-        if samples.shape[0]:
-            yaw = float(_yaw_at(samples, np.zeros(1), np.inf)[0])
-        if np.isfinite(yaw) and anchor is not None:
-            cr = contacts["right"]
-            k = int(np.clip(round(anchor.time_s * right.rate_hz), 0, right.position_m.shape[0] - 1))
-            yaw_c = _yaw_at(samples, cr.time_s, p.pair_yaw_window_s)
-            yaw_a = float(_yaw_at(samples, np.array([anchor.time_s]), p.pair_yaw_window_s)[0])
-            pos, pa = _rotate_track(
-                cr.time_s, cr.position_m, anchor.time_s, right.point_m(offset)[k], yaw_c, yaw_a
-            )
-            shift = _anchor_shift(left, contacts["left"], pa, anchor, offset)
-            contacts["right"] = Contacts(
-                time_s=cr.time_s,
-                position_m=pos + shift,
-                R_earth_sensor=rot_z(yaw_c) @ cr.R_earth_sensor,
-                period=cr.period,
-            )
-            anchored = True
-            if chain is not None:
-                drift = right_track_drift(contacts["left"], contacts["right"], chain, anchor.time_s, p)
-                if drift is not None:
-                    moved = contacts["right"].position_m.copy()
-                    moved[:, :2] += drift.at(cr.time_s)
-                    contacts["right"] = replace(contacts["right"], position_m=moved)
+    if "left" in contacts and "right" in contacts:
+        yaw = relative_heading_rad(contacts["left"], contacts["right"], p)
     thr = np.deg2rad(p.turn_heading_deg)
     turning: dict[str, list[bool]] = {}
     heading: dict[str, list[float]] = {}
@@ -409,30 +254,21 @@ def compute_gait_parameters(
             continue
         oside = "right" if side == "left" else "left"
         other = evs[oside]
-        c, co = contacts.get(side), contacts.get(oside)
+        c = contacts.get(side)
         ic = ev.initial_contact_s
         for k in range(len(ic) - 1):
             T = float(ic[k + 1] - ic[k])
             if T > p.max_stride_time_s:
                 continue
             tmp = _temporal(ev, other, k, p)
-            length = step_len = width = hdg = nan
+            length = hdg = nan
             turn = step_turn = False
             if c is not None:
-                mine = own[side].position_m
-                length = float(np.linalg.norm(mine[k + 1, :2] - mine[k, :2]))
+                length = float(np.linalg.norm(c.position_m[k + 1, :2] - c.position_m[k, :2]))
                 hdg, turn = float(np.rad2deg(heading[side][k])), turning[side][k]
-            if anchored and c is not None and co is not None:
-                before = np.flatnonzero(co.time_s < ic[k])
-                if before.size and before[-1] + 1 < len(co.time_s):
-                    j = int(before[-1])
-                    P, N = co.position_m[j, :2], co.position_m[j + 1, :2]
-                    u = (N - P) / np.linalg.norm(N - P)
-                    d = c.position_m[k, :2] - P
-                    step_len = float(d @ u)
-                    width = float(abs(u[0] * d[1] - u[1] * d[0]))
-                    step_turn = turning[oside][j]
-            elif co is not None:
+            step_len, width = _step(placements, side, k)
+            co = contacts.get(oside)
+            if co is not None:
                 before = np.flatnonzero(co.time_s < ic[k])
                 if before.size and before[-1] < len(turning[oside]):
                     step_turn = turning[oside][int(before[-1])]
@@ -456,8 +292,65 @@ def compute_gait_parameters(
     return GaitParameters(
         strides=strides,
         relative_heading_deg=float(np.rad2deg(yaw)),
-        anchored=anchored,
+        anchored=bool(placements),
         params=p,
         event_sources=sources,
-        track_drift=drift,
+        track_drift=next((pl.drift for pl in placements if pl.drift is not None), None),
     )
+
+
+def _placements(
+    contacts: dict[str, Contacts],
+    trajs: dict[str, FootTrajectory | None],
+    anchor: FootAnchor | None,
+    chain: ChainSteps | Sequence[ChainSteps] | None,
+    offset: FloatArray,
+    p: GaitParams,
+) -> list[Placement]:
+    """Both placements (right onto left, left onto right), or those whose drift was removed.
+
+    With an anchor and both feet's contacts; a placement whose tracks the chain de-drifted
+    is kept over one it could not (its moving foot had too few chain steps).
+    """
+    if anchor is None or "left" not in contacts or "right" not in contacts:
+        return []
+    tl, tr = trajs["left"], trajs["right"]
+    assert tl is not None and tr is not None
+    given = [] if chain is None else [chain] if isinstance(chain, ChainSteps) else list(chain)
+    chains = {c.side: c for c in given}
+    out = []
+    for ref, mov in (("left", "right"), ("right", "left")):
+        pl = place_track(ref, contacts, {"left": tl, "right": tr}, anchor, chains.get(mov), offset, p)
+        if pl is not None:
+            out.append(pl)
+    if any(pl.drift is not None for pl in out):
+        out = [pl for pl in out if pl.drift is not None]
+    return out
+
+
+def _step(placements: list[Placement], side: str, k: int) -> tuple[float, float]:
+    """Step length and width (m) at ``side``'s contact ``k``: the mean over the placements (NaN: none).
+
+    In each placement, with P, N the other foot's contacts before and after it and
+    u = (N − P)/‖N − P‖: step length = (p_k − P)·u, width = |u × (p_k − P)|.
+    """
+    oside = "right" if side == "left" else "left"
+    lengths, widths = [], []
+    for pl in placements:
+        c, co = pl.contacts[side], pl.contacts[oside]
+        before = np.flatnonzero(co.time_s < c.time_s[k])
+        if not before.size or before[-1] + 1 >= len(co.time_s):
+            continue
+        j = int(before[-1])
+        P, N = co.position_m[j, :2], co.position_m[j + 1, :2]
+        u = (N - P) / np.linalg.norm(N - P)
+        d = c.position_m[k, :2] - P
+        lengths.append(float(d @ u))
+        widths.append(float(abs(u[0] * d[1] - u[1] * d[0])))
+    return _finite_mean(lengths), _finite_mean(widths)
+
+
+def _finite_mean(x: list[float]) -> float:
+    v = np.asarray(x, dtype=float)
+    v = v[np.isfinite(v)]
+    return float(v.mean()) if v.size else float("nan")
