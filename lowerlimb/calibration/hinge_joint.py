@@ -12,6 +12,8 @@ their distance to the axis line.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from numpy.typing import ArrayLike
 
 from lowerlimb.calibration._prepare import prepare_pair
@@ -22,7 +24,7 @@ from lowerlimb.calibration.results import HingeJointCalibration
 from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import FloatArray
 
-__all__ = ["calibrate_hinge_joint", "fit_hinge_joint"]
+__all__ = ["below_parent_above_child", "calibrate_hinge_joint", "fit_hinge_joint"]
 
 
 def _still_gravity(data: SphericalData, n_still: int) -> tuple[FloatArray, FloatArray] | None:
@@ -42,6 +44,7 @@ def fit_hinge_joint(
     joint: str = "joint",
     parent_sensor: str = "parent",
     child_sensor: str = "child",
+    proximal_parent: bool = False,
 ) -> HingeJointCalibration:
     """Axis and centre of a hinge on prepared signals (see the module docstring).
 
@@ -54,6 +57,9 @@ def fit_hinge_joint(
         joint: joint name used in messages.
         parent_sensor: parent sensor name used in messages.
         child_sensor: child sensor name used in messages.
+        proximal_parent: the parent sensor sits above the joint and the child below it, along
+            their up at standing (a knee): the centre's fit tries more starts and prefers such
+            a centre (:func:`below_parent_above_child`, ``options.hinge_centre_start_m``).
 
     Returns:
         The hinge result; warnings are issued and recorded.
@@ -86,8 +92,24 @@ def fit_hinge_joint(
         parent_sensor=parent_sensor,
         child_sensor=child_sensor,
         gauge_axes=(axis.axis_in_parent_sensor, axis.axis_in_child_sensor),
+        accept=below_parent_above_child(data, n_still) if proximal_parent else None,
     )
     return HingeJointCalibration(axis=axis, center=center)
+
+
+def below_parent_above_child(data: SphericalData, n_still: int) -> Callable[[FloatArray, FloatArray], bool]:
+    """Whether a centre ``(c_P, c_C)`` (m) lies below the parent sensor and above the child sensor.
+
+    Up is each sensor's mean specific force over the still start, or over the whole trial
+    without one (a thigh and a shank are upright on average while walking).
+    """
+    still = _still_gravity(data, n_still)
+    up_p, up_c = still if still is not None else (data.acc_parent.mean(axis=0), data.acc_child.mean(axis=0))
+
+    def accept(c_p: FloatArray, c_c: FloatArray) -> bool:
+        return bool(c_p @ up_p < 0.0 < c_c @ up_c)
+
+    return accept
 
 
 def calibrate_hinge_joint(

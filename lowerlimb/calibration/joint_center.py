@@ -103,6 +103,48 @@ def _axis_problem(rotated: SphericalData, options: CalibrationOptions) -> LsqPro
     )
 
 
+def _best_start(
+    problem: LsqProblem,
+    rotated: SphericalData,
+    result: solvers.SolverResult,
+    accept: Callable[[FloatArray], bool],
+    method: str,
+    options: CalibrationOptions,
+) -> solvers.SolverResult:
+    """The hinge centre's fit from zero, or from a better basin (``options.hinge_centre_start_m``).
+
+    Gauss–Newton runs from ± the start distance along each of the five coordinates on a
+    subsample (``options.swarm_samples``). Ends that ``accept`` (a test of the five
+    coordinates) passes come first, then lower cost; the best end is refined on all samples
+    and replaces ``result`` when it ranks higher by the same order.
+    """
+    d = float(options.hinge_centre_start_m or 0.0)
+    n = result.x.shape[0]
+    sub = _axis_problem(rotated.subsample(subsample_step(rotated.n_samples, options.swarm_samples)), options)
+
+    def rank(x: FloatArray, cost: float) -> tuple[bool, float]:
+        return (not accept(x), cost)
+
+    ends = []
+    for x0 in np.vstack([d * np.eye(n), -d * np.eye(n)]):
+        try:
+            x = np.asarray(solve_local(sub, x0, method, options).x, dtype=float)
+        except SolverError:
+            continue
+        ends.append((rank(x, float(np.sum(sub.residual(x) ** 2))), x))
+    if not ends:
+        return result
+    best = min(ends, key=lambda e: e[0])[1]
+    if np.allclose(best, result.x, atol=1e-3):
+        return result
+    try:
+        other = solve_local(problem, best, method, options)
+    except SolverError:
+        return result
+    better = rank(np.asarray(other.x), other.cost) < rank(np.asarray(result.x), result.cost)
+    return other if better else result
+
+
 def _direction_text(v: FloatArray) -> str:
     n = float(np.linalg.norm(v))
     if n < 1e-12:
@@ -262,6 +304,7 @@ def fit_spherical(
     gauge_axes: tuple[FloatArray, FloatArray] | None = None,
     prior: CenterPrior | None = None,
     keep: ArrayLike | None = None,
+    accept: Callable[[FloatArray, FloatArray], bool] | None = None,
 ) -> SphericalJointCalibration:
     """Solve eq. 7 on prepared signals and attach the excitation diagnostics.
 
@@ -281,6 +324,10 @@ def fit_spherical(
             (:func:`_refine`). The excitation report stays the data's own.
         keep: (N,) booleans, the samples to fit (``None``: all); the others are left
             out, e.g. near impacts (:func:`~lowerlimb.calibration.impact_window.impact_keep_mask`).
+        accept: with ``gauge_axes`` and a local method, whether a centre ``(c_P, c_C)`` (sensor
+            frames, m) is plausible: the fit then also tries other starts
+            (``options.hinge_centre_start_m``, :func:`_best_start`) and prefers a plausible
+            basin, then a lower cost. ``None``: the start at zero alone.
 
     Returns:
         The joint result; warnings are issued and recorded.
@@ -306,6 +353,16 @@ def fit_spherical(
         n_par = 5
     if method in ("casadi", "gn"):
         result = solve_local(problem, np.zeros(n_par), method, options)
+        if gauge_axes is not None and accept is not None and options.hinge_centre_start_m is not None:
+            M5 = np.zeros((6, 6))
+            M5[:3, :3], M5[3:, 3:] = Qp, Qc
+            M5 = M5 @ AXIS_GAUGE_MAP
+
+            def accept_y(y: FloatArray) -> bool:
+                x6 = M5 @ y
+                return accept(x6[:3], x6[3:])
+
+            result = _best_start(problem, data.rotated(Qp, Qc), result, accept_y, method, options)
     else:
         result = solve_global(problem, method, options)
     if gauge_axes is None:

@@ -52,7 +52,7 @@ from lowerlimb.calibration.fit_band import (
     implausible_segment,
     widened_caps,
 )
-from lowerlimb.calibration.hinge_joint import fit_hinge_joint
+from lowerlimb.calibration.hinge_joint import below_parent_above_child, fit_hinge_joint
 from lowerlimb.calibration.impact_window import impact_cutoff_limit_hz, impact_keep_mask
 from lowerlimb.calibration.joint_center import fit_spherical
 from lowerlimb.calibration.joint_cutoff import joint_cutoffs_hz
@@ -462,6 +462,7 @@ def _fit_leg(
         joint="knee",
         parent_sensor=pk,
         child_sensor=ck,
+        proximal_parent=True,
     )
     if knee_check is not None:
         knee_check(knee)
@@ -707,7 +708,7 @@ def _knee_line(
         cuts = [] if cap is None else [None, *(f * cap for f in options.knee_line_probe_factors)]
         for hz in cuts:
             data = joint_signals(acc, gyr, sig, pk, ck, options, None, hz, own_band=False)
-            probes.append(_knee_probe(knee, data, method, options))
+            probes.append(_knee_probe(knee, data, n, method, options))
     knee, line = with_knee_line(
         knee,
         hip.center_in_child_sensor,
@@ -843,9 +844,12 @@ def _local(method: str) -> str:
 
 
 def _knee_probe(
-    knee: HingeJointCalibration, data: SphericalData, method: str, options: CalibrationOptions
+    knee: HingeJointCalibration, data: SphericalData, n_still: int, method: str, options: CalibrationOptions
 ) -> HingeJointCalibration:
     """The knee centre refitted on the sensors' own cut-offs (no rigid-band cap), same axis, quietly.
+
+    Like the knee's own fit, it prefers a centre below the thigh sensor and above the shank
+    sensor (:func:`~lowerlimb.calibration.hinge_joint.below_parent_above_child`).
 
     How far this moves the knee along its axis is the systematic part of the
     data's spread there (:mod:`~lowerlimb.calibration.knee_line`).
@@ -858,5 +862,6 @@ def _knee_probe(
             options=options,
             joint="knee",
             gauge_axes=(knee.axis_in_parent_sensor, knee.axis_in_child_sensor),
+            accept=below_parent_above_child(data, n_still),
         )
     return replace(knee, center=center)
