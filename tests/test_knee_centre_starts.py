@@ -89,7 +89,16 @@ def test_a_knee_lies_below_the_thigh_sensor_and_above_the_shank_sensor():
     assert not accept(np.array([0.0, 0.05, -0.2]), np.array([0.01, 0.0, -0.1]))  # below the shank sensor
 
 
-@pytest.mark.parametrize("value", [0.0, -0.1, 0.4, 1.0])
-def test_impossible_start_distances_are_refused(value):
-    with pytest.raises(InputError, match="hinge_centre_start_m"):
-        CalibrationOptions(hinge_centre_start_m=value)
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [
+        ("hinge_centre_start_m", 0.0),
+        ("hinge_centre_start_m", -0.1),
+        ("hinge_centre_start_m", 0.4),
+        ("hinge_centre_start_m", 1.0),
+        ("hinge_centre_start_samples", 10),
+    ],
+)
+def test_impossible_start_settings_are_refused(field, value):
+    with pytest.raises(InputError, match=field):
+        CalibrationOptions(**{field: value})

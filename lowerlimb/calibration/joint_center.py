@@ -114,13 +114,14 @@ def _best_start(
     """The hinge centre's fit from zero, or from a better basin (``options.hinge_centre_start_m``).
 
     Gauss–Newton runs from ± the start distance along each of the five coordinates on a
-    subsample (``options.swarm_samples``). Ends that ``accept`` (a test of the five
+    subsample (``options.hinge_centre_start_samples``). Ends that ``accept`` (a test of the five
     coordinates) passes come first, then lower cost; the best end is refined on all samples
     and replaces ``result`` when it ranks higher by the same order.
     """
     d = float(options.hinge_centre_start_m or 0.0)
     n = result.x.shape[0]
-    sub = _axis_problem(rotated.subsample(subsample_step(rotated.n_samples, options.swarm_samples)), options)
+    step = subsample_step(rotated.n_samples, options.hinge_centre_start_samples)
+    sub = _axis_problem(rotated.subsample(step), options)
 
     def rank(x: FloatArray, cost: float) -> tuple[bool, float]:
         return (not accept(x), cost)
