@@ -239,11 +239,18 @@ def vicon_strides(vicon: dict, ev: dict[str, dict[str, np.ndarray]], straight: n
 
 
 def vicon_anchor(vicon: dict, ev: dict[str, dict[str, np.ndarray]]) -> FootAnchor:
-    """Right minus left ankle centre at the standing frame, walking coordinates of the first left stride."""
+    """Right minus left ankle centre at the standing frame, in walking coordinates.
+
+    Forward is the mean direction of the two feet's first strides (as :class:`~lowerlimb.gait.FootAnchor`).
+    """
     L, R = vicon["LAJC"][:, :2] / 1000.0, vicon["RAJC"][:, :2] / 1000.0
-    ic = ev["left"]["initial_contact"]
-    ic = ic[ic > STAND_FRAME]
-    u = L[ic[1]] - L[ic[0]]
+    dirs = []
+    for side, P in (("left", L), ("right", R)):
+        ic = ev[side]["initial_contact"]
+        ic = ic[ic > STAND_FRAME]
+        step = P[ic[1]] - P[ic[0]]
+        dirs.append(step / np.linalg.norm(step))
+    u = dirs[0] + dirs[1]
     u /= np.linalg.norm(u)
     d = R[STAND_FRAME] - L[STAND_FRAME]
     return FootAnchor(
