@@ -286,16 +286,19 @@ CONCLUSION = """What this says (seeds 201–203; written by hand from the tables
    under the 6° at which a twist is sought (with 2°, a twist of 0.08 was found there, the thigh
    went 7 → 15 mm and knee rotation 6.4 → 8.1°); a sensor turning less than about 0.1 rad/rad is
    not undone either.
-4. **On the real walk it trades lengths for angles.** Against Vicon: knee flexion 10.5 → 9.5 /
-   4.7 → 3.6°, hip flexion on the straight passes 7.3 → 5.9 / 3.9 → 4.3°, ankle 4.8 → 5.6 / 3.8 →
-   2.6°; the two legs' pelvis frames 60° → 22° apart and the worst step width 42 → 26 mm (median
-   12.5 → 15.5 mm). But the thighs come out +32 / +68 mm against Plug-in Gait (from −10 / +29),
-   the right shank −19 mm and the hip–ankle distances further off. On the simulator the
-   untwisting lengthens the thighs by as much (30–60 mm) and that is the truth; on the real walk
-   either Plug-in Gait's thighs are that short (functional references from the walk's own
-   markers put them 15 / 27 mm longer, `marker_knee.md`) or the real sensor's motion differs
-   from the model's in what the accelerometers see (a turn about a nearer axis, sliding as
-   well). One walk cannot tell which, so the option stays off by default."""
+4. **On the real walk it trades lengths for angles, and the legs differ.** Against Vicon: knee
+   flexion 10.5 → 9.5 / 4.7 → 3.6°, hip flexion on the straight passes 7.3 → 5.8 / 3.9 → 4.2°,
+   ankle 4.8 → 5.6 / 3.8 → 2.5°; the two legs' pelvis frames 60° → 23° apart. The left thigh
+   stays (−10 → −8 mm against Plug-in Gait) and its hip–ankle distance comes within 5 mm RMSE
+   (23 without), but the right thigh goes +29 → +62 mm, the shanks to +10 / +20 mm, the right
+   hip–ankle distance to 85 mm RMSE and the step width to 48.7 / 88.3 mm (median / worst; 12.9
+   / 27.0 without). Before the leg's knee centre was fitted from more starts (0.5.4) the
+   untwisted left knee took another basin: thighs +32 / +68 mm, step width 15.5 / 25.9 mm. On
+   the simulator the untwisting lengthens the thighs by 30–60 mm and that is the truth; on the
+   real walk either Plug-in Gait's right thigh is that short (functional references from the
+   walk's own markers put it 27 mm longer, `marker_knee.md`) or the real sensor's motion
+   differs from the model's in what the accelerometers see (a turn about a nearer axis, sliding
+   as well). One walk cannot tell which, so the option stays off by default."""
 
 
 def main() -> None:
