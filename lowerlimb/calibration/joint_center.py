@@ -350,20 +350,22 @@ def fit_spherical(
     else:
         Qp = basis_with_first_axis(gauge_axes[0])
         Qc = basis_with_first_axis(gauge_axes[1])
-        problem = _axis_problem(data.rotated(Qp, Qc), options)
+        rotated = data.rotated(Qp, Qc)
+        problem = _axis_problem(rotated, options)
+        # y (5) -> x' (rotated frames) -> x = (Q_P c'_P, Q_C c'_C) (sensor frames)
+        M = np.zeros((6, 6))
+        M[:3, :3], M[3:, 3:] = Qp, Qc
+        M = M @ AXIS_GAUGE_MAP
         n_par = 5
     if method in ("casadi", "gn"):
         result = solve_local(problem, np.zeros(n_par), method, options)
         if gauge_axes is not None and accept is not None and options.hinge_centre_start_m is not None:
-            M5 = np.zeros((6, 6))
-            M5[:3, :3], M5[3:, 3:] = Qp, Qc
-            M5 = M5 @ AXIS_GAUGE_MAP
 
             def accept_y(y: FloatArray) -> bool:
-                x6 = M5 @ y
+                x6 = M @ y
                 return accept(x6[:3], x6[3:])
 
-            result = _best_start(problem, data.rotated(Qp, Qc), result, accept_y, method, options)
+            result = _best_start(problem, rotated, result, accept_y, method, options)
     else:
         result = solve_global(problem, method, options)
     if gauge_axes is None:
@@ -380,10 +382,6 @@ def fit_spherical(
             noise_floor=options.noise_floor_mps2,
         )
     else:
-        # y (5) -> x' (rotated frames) -> x = (Q_P c'_P, Q_C c'_C) (sensor frames)
-        M = np.zeros((6, 6))
-        M[:3, :3], M[3:, 3:] = Qp, Qc
-        M = M @ AXIS_GAUGE_MAP
         x = M @ np.asarray(result.x, dtype=float)
         r = spherical_residual(x, data)
         report = jacobian_report(

@@ -235,8 +235,8 @@ def compute_gait_parameters(
         if ev is not None and tr is not None:
             contacts[side] = foot_contacts(tr, ev.initial_contact_s, offset, 0.5 * p.max_stride_time_s)
     placements = _placements(contacts, trajs, anchor, chain, offset, p)
-    yaw = float("nan")
-    if "left" in contacts and "right" in contacts:
+    yaw = next((pl.yaw_rad for pl in placements if pl.reference == "left"), float("nan"))
+    if np.isnan(yaw) and "left" in contacts and "right" in contacts:
         yaw = relative_heading_rad(contacts["left"], contacts["right"], p)
     thr = np.deg2rad(p.turn_heading_deg)
     turning: dict[str, list[bool]] = {}
