@@ -38,6 +38,7 @@ import importlib.util
 import json
 import time
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 from types import ModuleType, SimpleNamespace
 from typing import Any
@@ -175,6 +176,7 @@ def score_simulation(
     gait_params: GaitParams | None = None,
     pace: str = "normal",
     knee_rotation: float = 0.0,
+    transform: Callable[[Any], Any] | None = None,
 ) -> dict[str, Any]:
     """One simulated walk through the two-leg pipeline, scored against its truth.
 
@@ -183,27 +185,29 @@ def score_simulation(
     ``calibration_options`` and ``gait_params`` are passed to the pipeline (``None``: the
     defaults); ``rate_hz`` is the simulated sampling rate; ``pace`` the walker's
     (``normal`` or ``slow``, :data:`lowerlimb.simulation.footsteps.PACE_RANGES`);
-    ``knee_rotation`` the knees' internal rotation per rad of flexion (0: hinges).
+    ``knee_rotation`` the knees' internal rotation per rad of flexion (0: hinges);
+    ``transform`` maps the simulated trial to the one processed (``None``: as simulated).
     """
     kw: dict[str, Any] = {"lab_field": None} if uniform_field else {}
     kw["knee_rotation_per_flexion"] = knee_rotation
     sim = simulate_bilateral(duration_s, seed, artefacts=artefacts, rate_hz=rate_hz, pace=pace, **kw)
+    trial = sim.trial if transform is None else transform(sim.trial)
     t0 = time.perf_counter()
     refused = one_pelvis_refused = False
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         kw = {"calibration_options": calibration_options, "gait_params": gait_params}
         try:
-            res = process_bilateral_trial(sim.trial, **kw)
+            res = process_bilateral_trial(trial, **kw)
         except BilateralSideError:
             # the pair of calibrated hips looks swapped: counted, then scored without the check
             refused = True
-            res = process_bilateral_trial(sim.trial, side_check=False, **kw)
+            res = process_bilateral_trial(trial, side_check=False, **kw)
         except OppositeKneesError:
             # the legs' pelvis frames point apart (undetermined hips turn the thigh headings):
             # counted, then scored with each leg's own pelvis
             one_pelvis_refused = True
-            res = process_bilateral_trial(sim.trial, one_pelvis=False, **kw)
+            res = process_bilateral_trial(trial, one_pelvis=False, **kw)
     out: dict[str, Any] = {
         "seed": seed,
         "wall_s": time.perf_counter() - t0,

@@ -41,6 +41,7 @@ from .calibration.thigh_twist import (
 )
 from .conventions import SENSORS, FloatArray, quat_from_matrix
 from .errors import InputError
+from .io.saturation import trial_saturation, warn_saturation
 from .io.trial import ImuTrial
 from .methods import ORIENTATION_FILTERS
 from .model.calibrated import calibrated_geometry, chain_positions
@@ -504,8 +505,11 @@ def process_trial(
             what a leg holds (:mod:`lowerlimb.segments.angle_range`).
         CalibrationFallbackWarning: an implausible thigh or shank length was replaced
             by the anthropometric template (:mod:`lowerlimb.model.fallback`).
+        SaturationWarning: a sensor's accelerometer or gyro is cut at its range
+            (:mod:`lowerlimb.io.saturation`).
     """
     clock = _Stopwatch(progress)
+    warn_saturation(trial_saturation(trial.acc, trial.gyr))
     still = trial.still_period()  # detected once, handed on
     reference = trial.reference_samples(still)
 

@@ -32,7 +32,7 @@ from numpy.typing import ArrayLike, NDArray
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.conventions import FloatArray
 
-__all__ = ["jerk_norm", "impact_keep_mask", "impact_cutoff_limit_hz"]
+__all__ = ["dilate", "jerk_norm", "impact_keep_mask", "impact_cutoff_limit_hz"]
 
 
 def jerk_norm(acc: ArrayLike, rate_hz: float) -> FloatArray:
@@ -51,7 +51,7 @@ def jerk_norm(acc: ArrayLike, rate_hz: float) -> FloatArray:
     return np.asarray(np.linalg.norm(np.gradient(a, axis=0), axis=1) * rate_hz, dtype=float)
 
 
-def _dilate(flags: NDArray[np.bool_], half: int) -> NDArray[np.bool_]:
+def dilate(flags: NDArray[np.bool_], half: int) -> NDArray[np.bool_]:
     """Flags spread to ``half`` samples either side (a running maximum)."""
     if half <= 0 or not flags.any():
         return flags
@@ -81,18 +81,18 @@ def impact_keep_mask(
     jerk = np.max(np.vstack([jerk_norm(a, rate_hz) for a in acc]), axis=0)
     half = int(round(options.impact_window_s * rate_hz))
     threshold = options.impact_jerk_mps3
-    flags = _dilate(jerk > threshold, half)
+    flags = dilate(jerk > threshold, half)
     if flags.mean() > options.impact_max_excluded:
         # the lowest threshold among the jerk values that leaves enough samples
         candidates = np.unique(jerk[jerk > threshold])
         lo, hi = 0, candidates.size - 1
         while lo < hi:
             mid = (lo + hi) // 2
-            if _dilate(jerk > candidates[mid], half).mean() > options.impact_max_excluded:
+            if dilate(jerk > candidates[mid], half).mean() > options.impact_max_excluded:
                 lo = mid + 1
             else:
                 hi = mid
-        flags = _dilate(jerk > candidates[lo], half)
+        flags = dilate(jerk > candidates[lo], half)
     return np.asarray(~flags)
 
 

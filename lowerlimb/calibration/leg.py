@@ -31,7 +31,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any, Protocol
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from lowerlimb.calibration._prepare import (
     PreparedSignals,
@@ -53,7 +53,7 @@ from lowerlimb.calibration.fit_band import (
     widened_caps,
 )
 from lowerlimb.calibration.hinge_joint import below_parent_above_child, fit_hinge_joint
-from lowerlimb.calibration.impact_window import impact_cutoff_limit_hz, impact_keep_mask
+from lowerlimb.calibration.impact_window import dilate, impact_cutoff_limit_hz, impact_keep_mask
 from lowerlimb.calibration.joint_center import fit_spherical
 from lowerlimb.calibration.joint_cutoff import joint_cutoffs_hz
 from lowerlimb.calibration.knee_line import axis_mismatch_message, standing_axis_mismatch, with_knee_line
@@ -66,6 +66,7 @@ from lowerlimb.calibration.thigh_twist import ThighTwist
 from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import JOINT_SENSORS, SENSORS, FloatArray
 from lowerlimb.errors import InputError
+from lowerlimb.io.saturation import at_limit_samples
 from lowerlimb.stillness import StillPeriod, detect_still_period
 from lowerlimb.upsample import upsample_factor, upsampled, upsampled_still
 
@@ -396,6 +397,29 @@ def _fit_in_band(leg: _CheckedLeg, opts: CalibrationOptions) -> LegCalibration:
     return replace(cal, knee=_with_warning(cal.knee, band.fallback_message()))
 
 
+def _without_limits(
+    keep: NDArray[np.bool_] | None,
+    at_limit: Mapping[str, NDArray[np.bool_]],
+    sensors: tuple[str, str],
+    factor: int,
+    half: int,
+) -> NDArray[np.bool_] | None:
+    """A joint's keep mask without the samples near where its sensors sit at their range.
+
+    Args:
+        keep: the fit's (k·N,) mask so far (``None``: every sample).
+        at_limit: ``{sensor: (N,) booleans}`` of the recorded samples (:func:`at_limit_samples`).
+        sensors: the joint's two sensors.
+        factor: the fit's upsampling factor ``k``.
+        half: samples either side of one at the limit also left out (fit rate).
+    """
+    cut = [at_limit[s] for s in sensors if s in at_limit]
+    if not cut:
+        return keep
+    near = dilate(np.repeat(np.logical_or.reduce(cut), factor), half)
+    return ~near if keep is None else keep & ~near
+
+
 def _kept(
     leg: _CheckedLeg, fit: _Fit, band: FitBand, caught: list[warnings.WarningMessage]
 ) -> LegCalibration:
@@ -420,6 +444,7 @@ def _fit_leg(
     ``knee_check`` sees the knee as soon as it is fitted and may raise to stop the fit.
     """
     side, method, acc, gyr, rate, still = leg.side, leg.method, leg.acc, leg.gyr, leg.rate, leg.still
+    at_limit = at_limit_samples(acc, gyr) if opts.saturation_exclusion else {}
     offsets: dict[str, float] = {}
     n_rest = still.samples(opts.still_min_s) if still is not None else 0
     if n_rest and opts.rest_gravity_correction:
@@ -446,6 +471,10 @@ def _fit_leg(
         for joint, s, t in (("hip", p, c), ("ankle", pa, ca))
     )
     limits = {j: impact_cutoff_limit_hz(kp, opts) for j, kp in (("hip", hip_keep), ("ankle", ankle_keep))}
+    hip_keep, ankle_keep = (
+        _without_limits(kp, at_limit, (s, t), k, int(round(opts.impact_window_s * rate)))
+        for kp, s, t in ((hip_keep, p, c), (ankle_keep, pa, ca))
+    )
     pair_keys = {"hip": f"{p}-{c}", "ankle": f"{pa}-{ca}"}
     hip_data = joint_signals(acc, gyr, sig, p, c, opts, caps, max_hz=limits["hip"], capped=capped)
     ankle_data = joint_signals(acc, gyr, sig, pa, ca, opts, caps, max_hz=limits["ankle"], capped=capped)

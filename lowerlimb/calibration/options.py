@@ -173,6 +173,13 @@ class CalibrationOptions:
             applies it to the joints in ``impact_joints``;
             :func:`~lowerlimb.calibration.joint_center.calibrate_spherical_joint`
             to its one pair.
+        saturation_exclusion: leave the samples at which a joint's sensor sits at the
+            end of its range (:mod:`~lowerlimb.io.saturation`), and those within
+            ``impact_window_s`` of them, out of a leg's hip and ankle fits: a cut
+            accelerometer or gyro breaks the rigid constraint there. On simulated seven-IMU
+            walks with every accelerometer cut at ±2 g the shank went from 111 to 4 mm
+            (median) off its true length (``benchmarks/results/saturation.md``). Nothing
+            changes on a trial with no cut sensor. The knee's fit keeps every sample.
         impact_joints: the leg's spherical joints (``"hip"``, ``"ankle"``) whose fits
             leave impacts out. The ankle only: its pair spans the foot contact
             (on seven-IMU simulated walks the ankle in the shank went from 60 to
@@ -377,6 +384,7 @@ class CalibrationOptions:
     huber_k: float = 1.345
     robust_passes: int = 5
     impact_exclusion: bool = True
+    saturation_exclusion: bool = True
     impact_joints: tuple[str, ...] = ("ankle",)
     impact_jerk_mps3: float = 1000.0
     impact_window_s: float = 0.05

@@ -1,0 +1,263 @@
+"""Sensor range: what a cut accelerometer or gyro does to the two-leg results, and whether it is found.
+
+Low-cost IMUs often record at a narrow default range (an MPU-6050 at ±2 g and ±250 °/s); walking
+goes beyond it. Each row cuts every sensor's accelerometer and/or gyro of a trial at a range
+(``np.clip`` per axis, as a sensor's converter does) and runs the two-leg pipeline
+(``process_bilateral_trial``, what ``lowerlimb calibrate`` runs on a seven-sensor CSV):
+
+- *found*: sensors the input check (:mod:`lowerlimb.io.saturation`) reports cut, against the
+  sensors whose signal goes beyond the range in at least three places (a limit reached once or
+  twice is not reported, by design);
+- *cut %*: the largest share of one sensor's samples beyond the range;
+- segment lengths (hip and ankle centre to the knee axis) against the truth (simulated) or
+  Vicon Plug-in Gait (real), mm; stride length %, step width mm, initial contact ms (simulated)
+  and the worst angle RMSE of either leg, degrees (simulated: all nine angles; real: knee and
+  hip flexion against Vicon);
+- *left out*: the default, the cut samples (and 50 ms around them) left out of the hip and
+  ankle fits (``CalibrationOptions.saturation_exclusion``); *fitted*: with
+  ``saturation_exclusion=False``.
+
+Sources: seven-IMU simulated walks (``simulate_bilateral``, seeds 201–203, 60 s, normal pace)
+and the real walk (``gait/``, Xsens MTw, which record at ±16 g and ±2000 °/s; its largest
+readings are 3.0 g and 460 °/s).
+
+    python benchmarks/saturation.py --data ../shared/data --out benchmarks/results
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+import warnings
+from collections.abc import Callable
+from dataclasses import replace
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+
+from lowerlimb.bilateral.process import process_bilateral_trial
+from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.conventions import GRAVITY_MPS2, SIDES
+from lowerlimb.io import load_xsens
+from lowerlimb.io.bilateral_trial import BilateralTrial
+from lowerlimb.io.saturation import trial_saturation
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _realwalk import IDS, load_vicon, raw_dir  # noqa: E402
+from _results import real_data_main  # noqa: E402
+
+SIM_SEEDS = (201, 202, 203)
+#: (label, accelerometer range in g, gyro range in °/s, cut samples left out); 0: not cut.
+ROWS: tuple[tuple[str, float, float, bool], ...] = (
+    ("as recorded", 0, 0, True),
+    ("±2 g", 2, 0, True),
+    ("±2 g, fitted", 2, 0, False),
+    ("±4 g", 4, 0, True),
+    ("±8 g", 8, 0, True),
+    ("±250 °/s", 0, 250, True),
+    ("±250 °/s, fitted", 0, 250, False),
+    ("±500 °/s", 0, 500, True),
+    ("±1000 °/s", 0, 1000, True),
+    ("±2 g, ±250 °/s (MPU-6050 default)", 2, 250, True),
+    ("±4 g, ±500 °/s", 4, 500, True),
+)
+
+
+def _module(name: str) -> ModuleType:
+    path = Path(__file__).resolve().parent / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(f"{name}_for_saturation", path)
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def _limits(acc_g: float, gyr_dps: float) -> dict[str, float]:
+    return {"acc": acc_g * GRAVITY_MPS2, "gyr": float(np.deg2rad(gyr_dps))}
+
+
+def _beyond(trial: BilateralTrial, limits: dict[str, float]) -> tuple[set[str], float]:
+    """Sensors beyond a range in ≥ 3 places, and the largest share of one sensor's samples beyond it."""
+    sensors, share = set(), 0.0
+    for kind, signals in (("acc", trial.acc), ("gyr", trial.gyr)):
+        if not limits[kind]:
+            continue
+        for name, x in signals.items():
+            over = (np.abs(x) > limits[kind]).any(axis=1)
+            share = max(share, float(over.mean()))
+            runs = int(np.count_nonzero(np.diff(over.astype(int)) == 1) + over[0])
+            if runs >= 3:
+                sensors.add(f"{name} {kind}")
+    return sensors, share
+
+
+def cut(trial: BilateralTrial, limits: dict[str, float]) -> BilateralTrial:
+    """The trial with every accelerometer and gyro clipped at its range (0: not cut)."""
+
+    def clip(signals: dict[str, np.ndarray], limit: float) -> dict[str, np.ndarray]:
+        return {k: np.clip(v, -limit, limit) for k, v in signals.items()} if limit else dict(signals)
+
+    return replace(trial, acc=clip(trial.acc, limits["acc"]), gyr=clip(trial.gyr, limits["gyr"]))
+
+
+def _found(trial: BilateralTrial, limits: dict[str, float], record: dict[str, Any]) -> BilateralTrial:
+    cut_trial = cut(trial, limits)
+    beyond, share = _beyond(trial, limits)
+    found = {f"{s.sensor} {s.signal}" for s in trial_saturation(cut_trial.acc, cut_trial.gyr)}
+    record |= {"beyond": sorted(beyond), "found": sorted(found), "cut_share": share}
+    return cut_trial
+
+
+def _sim_row(gait: ModuleType, acc_g: float, gyr_dps: float, left_out: bool) -> dict[str, Any]:
+    limits = _limits(acc_g, gyr_dps)
+    options = CalibrationOptions(saturation_exclusion=left_out)
+    trials, checks = [], []
+    for seed in SIM_SEEDS:
+        record: dict[str, Any] = {}
+        transform: Callable[[Any], Any] = lambda tr, rec=record: _found(tr, limits, rec)  # noqa: E731
+        trials.append(gait.score_simulation(seed, 60.0, calibration_options=options, transform=transform))
+        checks.append(record)
+    pooled = gait.summarise_simulation(trials)
+    worst = max(max(v.values()) for v in pooled["angle_rmse_deg"]["worst"].values())
+    return {
+        "found": sum(len(c["found"]) for c in checks),
+        "beyond": sum(len(c["beyond"]) for c in checks),
+        "missed": sorted({m for c in checks for m in set(c["beyond"]) - set(c["found"])}),
+        "false": sorted({m for c in checks for m in set(c["found"]) - set(c["beyond"])}),
+        "cut_share": max(c["cut_share"] for c in checks),
+        "lengths_mm": {k: pooled["joints"][k] for k in gait.LENGTH_LABELS},
+        "stride_length_pct": pooled["stride_length_pct"],
+        "step_width_mm": pooled["step_width_mm"],
+        "initial_contact_ms": pooled["initial_contact"],
+        "worst_angle_rmse_deg": worst,
+    }
+
+
+def _real_row(
+    base: BilateralTrial,
+    vicon: dict[str, Any],
+    bg: ModuleType,
+    ge: ModuleType,
+    row: tuple[str, float, float, bool],
+) -> dict[str, Any]:
+    _, acc_g, gyr_dps, left_out = row
+    record: dict[str, Any] = {}
+    trial = _found(base, _limits(acc_g, gyr_dps), record)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = process_bilateral_trial(
+            trial, calibration_options=CalibrationOptions(saturation_exclusion=left_out)
+        )
+    legs = bg.score_legs(res, vicon)
+    strides = bg.score_strides(res, vicon, ge)
+    return {
+        "found": len(record["found"]),
+        "beyond": len(record["beyond"]),
+        "missed": sorted(set(record["beyond"]) - set(record["found"])),
+        "false": sorted(set(record["found"]) - set(record["beyond"])),
+        "cut_share": record["cut_share"],
+        "length_err_mm": {s: [legs[s]["thigh_err_mm"], legs[s]["shank_err_mm"]] for s in SIDES},
+        "stride_length_pct": strides["stride_length_err_pct"],
+        "step_width_mm": strides["step_width_err_mm"],
+        "worst_flexion_rmse_deg": max(
+            legs[s][k] for s in SIDES for k in ("knee_flexion_rmse_deg", "hip_flexion_rmse_deg")
+        ),
+    }
+
+
+def run(data: Path) -> dict[str, Any]:
+    """Every row on the simulated walks and on the real walk."""
+    gait = _module("gait")
+    bg = _module("bilateral_gait")
+    ge = bg._gait_events_module()
+    rec = load_xsens(raw_dir(data), IDS)
+    base = BilateralTrial(rec.time_s, rec.acc, rec.gyr, rec.mag)
+    vicon = load_vicon(data)
+    rows = []
+    for row in ROWS:
+        label, acc_g, gyr_dps, left_out = row
+        print(f"saturation: {label}", file=sys.stderr)
+        rows.append(
+            {
+                "label": label,
+                "acc_range_g": acc_g,
+                "gyr_range_dps": gyr_dps,
+                "left_out": left_out,
+                "simulated": _sim_row(gait, acc_g, gyr_dps, left_out),
+                "real": _real_row(base, vicon, bg, ge, row),
+            }
+        )
+    return {"seeds": SIM_SEEDS, "rows": rows}
+
+
+def _f(x: Any, fmt: str = ".1f") -> str:
+    return "–" if x is None or not np.isfinite(x) else format(x, fmt)
+
+
+def _sim_line(r: dict[str, Any]) -> str:
+    s = r["simulated"]
+    lengths = " / ".join(
+        f"{_f(v['median_abs'], '.0f')} ({_f(v['worst_abs'], '.0f')})" for v in s["lengths_mm"].values()
+    )
+    return (
+        f"| {r['label']} | {s['found']} / {s['beyond']} | {100 * s['cut_share']:.1f} | {lengths} | "
+        f"{_f(s['stride_length_pct']['median_abs'])} | {_f(s['step_width_mm']['median_abs'], '.0f')} | "
+        f"{_f(s['initial_contact_ms']['median_abs'])} | {_f(s['worst_angle_rmse_deg'])} |"
+    )
+
+
+def _real_line(r: dict[str, Any]) -> str:
+    s = r["real"]
+    le = " / ".join(f"{v:+.0f}" for side in SIDES for v in s["length_err_mm"][side])
+    stride, width = s["stride_length_pct"].get("median_abs"), s["step_width_mm"].get("median_abs")
+    return (
+        f"| {r['label']} | {s['found']} / {s['beyond']} | {100 * s['cut_share']:.1f} | {le} | "
+        f"{_f(stride)} | {_f(width, '.0f')} | {_f(s['worst_flexion_rmse_deg'])} |"
+    )
+
+
+def markdown(res: dict[str, Any]) -> str:
+    """The two tables and what they say."""
+    seeds = ", ".join(map(str, res["seeds"]))
+    lines = [
+        "# Sensor range: a cut accelerometer or gyro",
+        "",
+        "Generated by `benchmarks/saturation.py` (definitions in its docstring). Every sensor's "
+        "accelerometer and/or gyro cut at the range of the row. *found / beyond*: sensor signals the "
+        "input check reports cut, against those that go beyond the range in at least three places. "
+        "*fitted*: the cut samples kept in the hip and ankle fits (`saturation_exclusion=False`); "
+        "every other row leaves them out (the default).",
+        "",
+        f"## Simulated seven-IMU walks (seeds {seeds}, 60 s), against the truth",
+        "",
+        "| range | found / beyond | cut % (worst sensor) | thigh / shank length error mm, median (worst) "
+        "| stride length % | step width mm | initial contact ms | worst angle RMSE ° |",
+        "|---|---|---|---|---|---|---|---|",
+        *[_sim_line(r) for r in res["rows"]],
+        "",
+        "## Real walk (Xsens MTw at ±16 g and ±2000 °/s), against Vicon",
+        "",
+        "| range | found / beyond | cut % (worst sensor) | length error mm, left thigh / shank, right "
+        "thigh / shank | stride length % | step width mm | worst hip or knee flexion RMSE ° |",
+        "|---|---|---|---|---|---|---|",
+        *[_real_line(r) for r in res["rows"]],
+        "",
+    ]
+    missed = sorted({m for r in res["rows"] for src in ("simulated", "real") for m in r[src]["missed"]})
+    false = sorted({m for r in res["rows"] for src in ("simulated", "real") for m in r[src]["false"]})
+    lines += [
+        f"Sensors beyond a range in three places or more but not reported: {', '.join(missed) or 'none'}. "
+        f"Reported but not beyond: {', '.join(false) or 'none'}.",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def main() -> None:
+    real_data_main(__doc__, "saturation", run, markdown)
+
+
+if __name__ == "__main__":
+    main()
