@@ -145,6 +145,27 @@ def test_time_in_milliseconds(tmp_path):
         ImuTrial.from_csv(_write(tmp_path, _trial(), ms))
 
 
+@pytest.mark.parametrize(
+    ("scale", "unit", "divisor"),
+    [
+        (1e6, "microseconds", "1e6"),
+        (1e9, "nanoseconds", "1e9"),
+        (100.0, "milliseconds or sample numbers", "1000"),
+    ],
+)
+def test_time_in_other_units(tmp_path, scale, unit, divisor):
+    """The fix names the unit the steps look like (µs, ns; a step of 1 may be sample numbers at 100 Hz)."""
+
+    def scaled(h, d):
+        d = d.copy()
+        d[:, 0] *= scale
+        return h, d
+
+    with pytest.raises(UnitError, match=rf"look like {unit} .*divide the time column by {divisor}\b") as e:
+        ImuTrial.from_csv(_write(tmp_path, _trial(), scaled))
+    assert ("divide by the rate in Hz" in str(e.value)) == (scale == 100.0)
+
+
 def test_from_sample_cuts_every_signal_and_restarts_the_clock():
     trial = _trial()
     cut = trial.from_sample(250)

@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ..errors import InputError, UnitError
+from ..io.time_axis import guess_time_unit
 
 
 class AlignmentError(InputError):
@@ -74,7 +75,7 @@ class TooLittleTimeOverlapError(InputError):
 
 
 class ReferenceTimeUnitError(UnitError):
-    """The reference's time steps are too long for seconds: its time looks like milliseconds."""
+    """The reference's time steps are too long for seconds: its time looks like ms, µs or ns."""
 
     def __init__(self, median_step: float, our_step_s: float | None = None, path: str = "") -> None:
         self.median_step = median_step
@@ -82,12 +83,14 @@ class ReferenceTimeUnitError(UnitError):
         self.path = path
         where = f"reference {path}" if path else "the reference"
         ours = "" if our_step_s is None else f"; lowerlimb's are {our_step_s:.4g} s"
+        guess = guess_time_unit(median_step)
+        unit, divisor = ("milliseconds", "1000") if guess is None else (guess.unit, guess.divisor)
         super().__init__(
             "time",
             median_step,
             f"{where} has time steps of {median_step:.4g} (a rate of {1.0 / median_step:.3g} Hz if in s"
-            f"{ours}): its time looks like milliseconds; give the reference's time in seconds "
-            f"(divide its time column by 1000)",
+            f"{ours}): its time looks like {unit}; give the reference's time in seconds "
+            f"(divide its time column by {divisor})",
         )
 
 

@@ -10,7 +10,16 @@ import numpy as np
 from ..conventions import FloatArray
 from ..errors import InputError, TimeAxisError
 
-__all__ = ["TimeAxis", "require_increasing"]
+__all__ = ["TimeAxis", "TimeUnitGuess", "guess_time_unit", "require_increasing"]
+
+#: Time units a column may be in, with the divisor to seconds.
+_TIME_UNITS: tuple[tuple[str, float], ...] = (
+    ("milliseconds", 1e3),
+    ("microseconds", 1e6),
+    ("nanoseconds", 1e9),
+)
+#: Sampling rates a recording may have, Hz (a unit is guessed when it puts the rate in here).
+_PLAUSIBLE_RATE_HZ = (5.0, 5000.0)
 
 
 def require_increasing(
@@ -28,6 +37,45 @@ def require_increasing(
             f"{whose} is not strictly increasing at data row {k + 2} ({time_s[k]:.6g} s then "
             f"{time_s[k + 1]:.6g} s); {fix}"
         )
+
+
+@dataclasses.dataclass(frozen=True)
+class TimeUnitGuess:
+    """What a time column whose steps are too long for seconds is in.
+
+    Attributes:
+        unit: ``"milliseconds"``, ``"microseconds"`` or ``"nanoseconds"``.
+        rate_hz: the sampling rate in that unit, Hz.
+        divisor: ``"1000"``, ``"1e6"`` or ``"1e9"``: the column divided by it is in seconds.
+        sample_numbers: the step is exactly 1, so the column may also hold sample numbers.
+    """
+
+    unit: str
+    rate_hz: float
+    divisor: str
+    sample_numbers: bool
+
+    def text(self) -> str:
+        """``"milliseconds (a rate of 100 Hz)"``, naming sample numbers where they are possible."""
+        samples = " or sample numbers" if self.sample_numbers else ""
+        return f"{self.unit}{samples} (a rate of {self.rate_hz:.4g} Hz in {self.unit})"
+
+
+def guess_time_unit(median_step: float) -> TimeUnitGuess | None:
+    """The first of milliseconds, microseconds, nanoseconds that puts the rate within 5–5000 Hz.
+
+    Args:
+        median_step: a time column's median step, in its own unit (too long for seconds).
+
+    Returns:
+        The guess, or ``None`` when none fits.
+    """
+    for unit, divisor in _TIME_UNITS:
+        rate = divisor / median_step
+        if _PLAUSIBLE_RATE_HZ[0] <= rate <= _PLAUSIBLE_RATE_HZ[1]:
+            text = "1000" if divisor == 1e3 else f"1e{round(np.log10(divisor))}"
+            return TimeUnitGuess(unit, rate, text, median_step == 1.0)
+    return None
 
 
 _T = TypeVar("_T", bound="TimeAxis")

@@ -31,7 +31,7 @@ from ..errors import (
 from ..stillness import StillPeriod, detect_still_period
 from .bounds import INPUT_BOUNDS
 from .text_file import BINARY_MAGIC
-from .time_axis import TimeAxis, require_increasing
+from .time_axis import TimeAxis, guess_time_unit, require_increasing
 
 #: Lowest sampling rate accepted, Hz: below it the time column is taken to be in ms.
 MIN_RATE_HZ = 5.0
@@ -229,11 +229,16 @@ class ImuTrial(TimeAxis):
         dt = np.diff(t)
         med = float(np.median(dt))
         if med > 1.0 / MIN_RATE_HZ:
+            guess = guess_time_unit(med)
             raise UnitError(
                 "time",
                 med,
-                f"time steps of {med:.4g} look like milliseconds (a rate of {1.0 / med:.3g} Hz); "
-                f"the trial format expects seconds (divide the time column by 1000)",
+                f"time steps of {med:.4g} look like {guess.text()}; the trial format expects seconds "
+                f"(divide the time column by {guess.divisor}"
+                f"{'; sample numbers: divide by the rate in Hz' if guess.sample_numbers else ''})"
+                if guess is not None
+                else f"time steps of {med:.4g} are too long for seconds (a rate of {1.0 / med:.3g} Hz); "
+                f"the trial format expects the time in seconds",
             )
         if np.max(np.abs(dt - med)) > TIME_JITTER_TOLERANCE * med:
             raise TimeAxisError(
