@@ -54,6 +54,7 @@ from lowerlimb.gait import GaitParams
 from lowerlimb.model.fallback import segment_lengths
 from lowerlimb.simulation import Artefacts, simulate_bilateral
 from lowerlimb.simulation.footsteps import PACE_RANGES, PACES
+from lowerlimb.simulation.pauses import PauseParams
 
 ROOT = Path(__file__).resolve().parents[1]
 MATCH_S = 0.2
@@ -177,6 +178,7 @@ def score_simulation(
     pace: str = "normal",
     knee_rotation: float = 0.0,
     transform: Callable[[Any], Any] | None = None,
+    stops: PauseParams | None = None,
 ) -> dict[str, Any]:
     """One simulated walk through the two-leg pipeline, scored against its truth.
 
@@ -186,10 +188,12 @@ def score_simulation(
     defaults); ``rate_hz`` is the simulated sampling rate; ``pace`` the walker's
     (``normal`` or ``slow``, :data:`lowerlimb.simulation.footsteps.PACE_RANGES`);
     ``knee_rotation`` the knees' internal rotation per rad of flexion (0: hinges);
-    ``transform`` maps the simulated trial to the one processed (``None``: as simulated).
+    ``transform`` maps the simulated trial to the one processed (``None``: as simulated);
+    ``stops`` makes the walker stop and stand (``None``: walks on).
     """
     kw: dict[str, Any] = {"lab_field": None} if uniform_field else {}
     kw["knee_rotation_per_flexion"] = knee_rotation
+    kw["stops"] = stops
     sim = simulate_bilateral(duration_s, seed, artefacts=artefacts, rate_hz=rate_hz, pace=pace, **kw)
     trial = sim.trial if transform is None else transform(sim.trial)
     t0 = time.perf_counter()

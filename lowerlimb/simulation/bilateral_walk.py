@@ -58,6 +58,7 @@ from .leg_ik import solve_leg
 from .magnetic_field import LAB_FIELD, LabField, dipole_grid, field_enu_ut
 from .motions import MotionKinematics, smoothstep
 from .noise import ImuNoise
+from .pauses import PauseParams, pause_plan_times, paused_time, warped_events
 from .placements import random_placements
 from .sensor_errors import SensorErrors, draw_sensor_errors
 from .simulator import (
@@ -440,6 +441,7 @@ def simulate_bilateral(
     pace: str = "normal",
     limb_vibration_deg: float | tuple[float, float, float] = 0.0,
     knee_rotation_per_flexion: float = 0.0,
+    stops: PauseParams | None = None,
 ) -> BilateralSimulation:
     """Simulate a seven-IMU walk (pelvis, both thighs, shanks and feet) with known truth.
 
@@ -484,13 +486,16 @@ def simulate_bilateral(
             axis between the flexion axis and the rotation's, and the knee axis seen from the
             thigh and from the shank sensor differs at standing (3–4° at 0.2; the true knee
             axis in ``truth.json`` stays the flexion axis).
+        stops: The walker stops ``stops.count`` times, spread over the walk, and stands still
+            in double support for ``stops.pause_s`` (:mod:`lowerlimb.simulation.pauses`; the
+            walk is the steady one's, slowed to a halt and started again; ``None``: no stop).
 
     Returns:
         A :class:`BilateralSimulation`.
 
     Raises:
         InputError: too short a trial, a non-positive rate, an unknown pace, a negative or
-            non-finite limb vibration or a non-finite or implausible knee rotation.
+            non-finite limb vibration, a non-finite or implausible knee rotation, or bad stops.
     """
     t_start = time.perf_counter()
     if rate_hz <= 0 or duration_s < still_s + 4.0:
@@ -510,6 +515,8 @@ def simulate_bilateral(
             f"knee_rotation_per_flexion must be finite and within ±1 rad/rad (0.2: about 11° over a stride), "
             f"not {knee_rotation_per_flexion!r}"
         )
+    if stops is not None:
+        stops.validate()
     noise = ImuNoise() if noise is None else noise
     rng = np.random.default_rng(seed)
     art = artefacts if artefacts is not None and artefacts.active else None
@@ -521,13 +528,26 @@ def simulate_bilateral(
     t = np.arange(int(round(duration_s * rate_hz))) / rate_hz
     t0 = still_s
     z_stand, stand = _standing(legs, d.heading0_rad)
-    path = pelvis_path(t, d, t0)
-    feet = {s: plan_feet(s, d, t, t0, (path[0], path[1]), stand[s], _foot_points(legs[s])) for s in SIDES}
-    root = _pelvis_root(t, d, t0, legs, feet, path, z_stand)
-    ramp = smoothstep(t, t0, d.stride_time_s)
+
+    def plan(tau: FloatArray) -> tuple[tuple[FloatArray, FloatArray, FloatArray], dict[str, FootPlan]]:
+        path = pelvis_path(tau, d, t0)
+        return path, {
+            s: plan_feet(s, d, tau, t0, (path[0], path[1]), stand[s], _foot_points(legs[s])) for s in SIDES
+        }
+
+    path, feet = plan(t)
+    tau = t  # the plan time of each sample (stops: lowerlimb.simulation.pauses)
+    if stops is not None and stops.count:
+        freeze = pause_plan_times({s: f.events for s, f in feet.items()}, t0, float(t[-1]), stops.count)
+        tau = paused_time(t, freeze, stops)
+        path, feet = plan(tau)
+    root = _pelvis_root(tau, d, t0, legs, feet, path, z_stand)
+    if tau is not t:
+        feet = {s: replace(f, events=warped_events(f.events, t, tau)) for s, f in feet.items()}
+    ramp = smoothstep(tau, t0, d.stride_time_s)
     Q = {}
     for s in SIDES:
-        u = (t - first_contacts(d, t0)[s]) / d.stride_time_s
+        u = (tau - first_contacts(d, t0)[s]) / d.stride_time_s
         hip_rot = np.deg2rad(d.hip_rotation_deg) * np.sin(2 * np.pi * u - 0.8) * ramp
         angles = solve_leg(
             legs[s],

@@ -1,0 +1,177 @@
+"""How fast may the heading between the two feet's tracks change? The window of its kernel mean.
+
+Each foot's track has its own heading error; the placement (``lowerlimb.gait.placement``) turns
+the moving foot's track onto the reference foot's stride by stride, by a Gaussian-kernel mean
+of the two feet's heading differences over ``GaitParams.pair_yaw_window_s`` (its SD, s). A long
+window averages the heading differences of many strides (less noise) but blurs a heading that
+changes (a walker who stops and starts again: each foot's heading error jumps while it stands);
+a short one follows it but averages fewer strides.
+
+Each walk is processed once and its gait analysed with each window (the chain's drift removal
+at its default knots). Walks: the simulated seven-IMU walks of ``gait_drift_knots.py`` (60 s,
+5 and 10 minutes, pace changes), 60 s walks at the slow and the shuffling pace, 60 s walks with
+three stops of 3 s (``simulate_bilateral(..., stops=PauseParams(count=3))``), each against the
+simulator's truth, and the real walk (``gait/``, straight strides, against the Vicon ankle
+centres). Per walk and window: median and worst |step width error|, median |step length error|
+(real: |stride length error|, %), mm.
+
+Usage: ``python benchmarks/gait_yaw_window.py [--data ../shared/data] [--windows 2 3 5 10 20]
+[--quick] [--out DIR]``; writes ``gait_yaw_window.{md,json}``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import sys
+import warnings
+from pathlib import Path
+from types import ModuleType, SimpleNamespace
+from typing import Any
+
+import numpy as np
+
+from lowerlimb.bilateral import process_bilateral_trial
+from lowerlimb.bilateral.gait import analyse_gait
+from lowerlimb.gait import GaitParams
+from lowerlimb.io import load_xsens
+from lowerlimb.io.bilateral_trial import BilateralTrial
+from lowerlimb.simulation import simulate_bilateral
+from lowerlimb.simulation.pauses import PauseParams
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _realwalk import IDS, load_vicon, raw_dir  # noqa: E402
+from _results import write_results  # noqa: E402
+from gait import matched_strides  # noqa: E402
+from gait_drift_knots import WALKS  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+#: (label, duration s, seed, keyword arguments of simulate_bilateral)
+SIM_WALKS: list[tuple[str, float, int, dict[str, Any]]] = [
+    *[(w[0], w[1], w[2], {"pace_changes": w[3]}) for w in WALKS],
+    *[(f"60 s slow, seed {s}", 60.0, s, {"pace": "slow"}) for s in (201, 202, 203)],
+    *[(f"60 s shuffle, seed {s}", 60.0, s, {"pace": "shuffle"}) for s in (201, 202, 203)],
+    *[(f"60 s, 3 stops, seed {s}", 60.0, s, {"stops": PauseParams(count=3)}) for s in (201, 202, 203, 204)],
+]
+
+
+def _module(name: str) -> ModuleType:
+    spec = importlib.util.spec_from_file_location(
+        f"{name}_for_yaw_window", ROOT / "benchmarks" / f"{name}.py"
+    )
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def _sim_score(sim: Any, legs: Any, window_s: float) -> dict[str, float]:
+    gait = analyse_gait(legs, GaitParams(pair_yaw_window_s=window_s))
+    pairs = matched_strides(sim, SimpleNamespace(gait=gait))
+    width = np.array([1000.0 * (c.step_width_m - st.step_width_m) for st, c in pairs])
+    step = np.array([1000.0 * (c.step_length_m - st.step_length_m) for st, c in pairs])
+    return {
+        "width_median_abs_mm": float(np.nanmedian(np.abs(width))),
+        "width_worst_abs_mm": float(np.nanmax(np.abs(width))),
+        "step_median_abs_mm": float(np.nanmedian(np.abs(step))),
+    }
+
+
+def sim_walk(
+    label: str, duration_s: float, seed: int, kw: dict[str, Any], windows: list[float]
+) -> dict[str, Any]:
+    """One simulated walk, processed once, scored at every window."""
+    print(f"gait_yaw_window: {label}", file=sys.stderr)
+    sim = simulate_bilateral(duration_s, seed, **kw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = process_bilateral_trial(sim.trial)
+        return {"walk": label, "by_window": {str(w): _sim_score(sim, res.legs, w) for w in windows}}
+
+
+def real_walk(data: Path, windows: list[float]) -> dict[str, Any]:
+    """The real walk, processed once, scored at every window against Vicon (straight strides)."""
+    bg = _module("bilateral_gait")
+    ge = bg._gait_events_module()
+    vicon = load_vicon(data)
+    rec = load_xsens(raw_dir(data), IDS)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = process_bilateral_trial(BilateralTrial(rec.time_s, rec.acc, rec.gyr, rec.mag))
+        by = {}
+        for w in windows:
+            res_w = SimpleNamespace(
+                trial=res.trial, gait=analyse_gait(res.legs, GaitParams(pair_yaw_window_s=w))
+            )
+            s = bg.score_strides(res_w, vicon, ge)
+            by[str(w)] = {
+                "width_median_abs_mm": s["step_width_err_mm"].get("median_abs", float("nan")),
+                "width_worst_abs_mm": s["step_width_err_mm"].get("worst_abs", float("nan")),
+                "stride_median_abs_pct": s["stride_length_err_pct"].get("median_abs", float("nan")),
+            }
+    return {"walk": "real walk (gait/), against Vicon", "by_window": by}
+
+
+def _cell(c: dict[str, float]) -> str:
+    last = (
+        f"{c['step_median_abs_mm']:.1f}"
+        if "step_median_abs_mm" in c
+        else f"{c['stride_median_abs_pct']:.1f} %"
+    )
+    return f"{c['width_median_abs_mm']:.1f} / {c['width_worst_abs_mm']:.0f} / {last}"
+
+
+def markdown(res: dict[str, Any]) -> str:
+    windows = res["windows"]
+    rows = res["rows"]
+    head = " | ".join(f"{w:g} s" for w in windows)
+    L = [
+        "# Heading between the feet's tracks: the window of its kernel mean",
+        "",
+        "Generated by `benchmarks/gait_yaw_window.py` (definitions in its docstring). Each cell: "
+        "median / worst |step width error| / median |step length error|, mm (real walk: median "
+        "|stride length error|, %), against the simulator's truth or Vicon; columns are "
+        f"`GaitParams.pair_yaw_window_s` (default {GaitParams().pair_yaw_window_s:g} s).",
+        "",
+        f"| walk | {head} |",
+        "|---" * (len(windows) + 1) + "|",
+    ]
+    L += [
+        f"| {r['walk']} | " + " | ".join(_cell(r["by_window"][str(w)]) for w in windows) + " |" for r in rows
+    ]
+    groups = {
+        "steady and pace-changing (gait_drift_knots walks)": lambda r: r["walk"] in {w[0] for w in WALKS},
+        "slow and shuffling": lambda r: " slow" in r["walk"] or "shuffle" in r["walk"],
+        "with stops": lambda r: "stops" in r["walk"],
+    }
+    for name, keep in groups.items():
+        sel = [r for r in rows if keep(r)]
+        if not sel:
+            continue
+        med = " | ".join(
+            f"{np.median([r['by_window'][str(w)]['width_median_abs_mm'] for r in sel]):.1f} / "
+            f"{np.median([r['by_window'][str(w)]['width_worst_abs_mm'] for r in sel]):.0f}"
+            for w in windows
+        )
+        L.append(f"| **median of the width medians / worsts: {name}** | {med} |")
+    L.append("")
+    return "\n".join(L)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
+    ap.add_argument("--windows", type=float, nargs="+", default=[2.0, 3.0, 5.0, 10.0, 20.0])
+    ap.add_argument("--quick", action="store_true", help="the 60 s walks only")
+    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
+    args = ap.parse_args()
+    walks = [w for w in SIM_WALKS if w[1] == 60.0] if args.quick else SIM_WALKS
+    rows = [sim_walk(*w, args.windows) for w in walks]
+    if args.data.is_dir():
+        rows.append(real_walk(args.data, args.windows))
+    res = {"windows": args.windows, "rows": rows}
+    write_results(args.out, "gait_yaw_window", res, markdown(res))
+
+
+if __name__ == "__main__":
+    main()
