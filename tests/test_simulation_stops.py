@@ -16,7 +16,6 @@ import pytest
 from lowerlimb.bilateral import process_bilateral_trial
 from lowerlimb.conventions import GRAVITY_ENU, SIDES
 from lowerlimb.errors import InputError
-from lowerlimb.orientation.magnetic import check_magnetic_field
 from lowerlimb.simulation import BilateralSimulation, ImuNoise, simulate_bilateral
 from lowerlimb.simulation.bilateral_walk import _foot_points
 from lowerlimb.simulation.pauses import PauseParams, paused_time
@@ -109,13 +108,3 @@ def test_the_pipeline_finds_the_strides_around_the_stops() -> None:
 def test_bad_stops_are_refused(params: PauseParams) -> None:
     with pytest.raises(InputError, match="stops need"):
         simulate_bilateral(10.0, 1, stops=params)
-
-
-def test_stops_do_not_make_a_disturbed_field_look_usable() -> None:
-    """The field's variation is judged while the subject moves: standing at a stop is no evidence
-    that the field is uniform (over the whole trial, three stops brought this walk's feet under
-    the threshold and the disturbed field was fused)."""
-    sim = simulate_bilateral(60.0, 202, stops=PauseParams(count=3))
-    checks = [check_magnetic_field(sim.trial.leg(side)) for side in SIDES]
-    assert not all(c.usable for c in checks)
-    assert "field strength varies" in next(c.reason for c in checks if not c.usable)
