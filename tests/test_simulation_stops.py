@@ -108,3 +108,19 @@ def test_the_pipeline_finds_the_strides_around_the_stops() -> None:
 def test_bad_stops_are_refused(params: PauseParams) -> None:
     with pytest.raises(InputError, match="stops need"):
         simulate_bilateral(10.0, 1, stops=params)
+
+
+def test_the_command_line_simulates_stops_for_two_legs_only(tmp_path, capsys) -> None:
+    from lowerlimb.cli import main
+
+    out = tmp_path / "stops.csv"
+    assert main(["simulate", "--side", "both", "--duration", "20", "--stops", "1", "--out", str(out)]) == 0
+    assert "1 stops of 3 s" in capsys.readouterr().out and out.is_file()
+    for argv, says in (
+        (["--stops", "1"], "--stops 1 is a seven-IMU walk option"),
+        (["--side", "both", "--stops", "5"], "--stops 5 is out of range for a 20 s walk"),
+    ):
+        assert main(["simulate", "--duration", "20", *argv, "--out", str(tmp_path / "x.csv")]) == 2
+        err = capsys.readouterr().err
+        assert says in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "x.csv").exists()

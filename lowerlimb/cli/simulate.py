@@ -82,6 +82,20 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "foot contact and a weak push-off, as in Parkinson's disease) (default: normal)",
     )
     p.add_argument(
+        "--stops",
+        type=int,
+        default=0,
+        help="with --side both: the walker stops this many times, spread over the walk, and stands "
+        "still in double support before walking on, as between the passes of a clinical walk "
+        "(default: 0)",
+    )
+    p.add_argument(
+        "--stop-s",
+        type=positive_float,
+        default=3.0,
+        help="with --stops: each stop's standing time, s (default: 3)",
+    )
+    p.add_argument(
         "--force", action="store_true", help="replace existing files (default: refuse to overwrite)"
     )
 
@@ -126,10 +140,15 @@ def _check_two_leg_options(args: argparse.Namespace) -> None:
 
     Raises:
         InputError: ``--side both`` with another motion, soft tissue, or too short;
-            ``--pace-changes`` without ``--side both``.
+            ``--pace-changes``, ``--pace`` or ``--stops`` without ``--side both``; more
+            stops than one per 10 s.
     """
     if args.side != "both":
-        two_leg_only = (("--pace-changes", args.pace_changes), (f"--pace {args.pace}", args.pace != "normal"))
+        two_leg_only = (
+            ("--pace-changes", args.pace_changes),
+            (f"--pace {args.pace}", args.pace != "normal"),
+            (f"--stops {args.stops}", args.stops != 0),
+        )
         for flag, used in two_leg_only:
             if used:
                 raise InputError(f"{flag} is a seven-IMU walk option; add --side both or drop it")
@@ -146,6 +165,11 @@ def _check_two_leg_options(args: argparse.Namespace) -> None:
         )
     if args.duration < 6.0:
         raise InputError(f"--side both needs at least 6 s of walk, not --duration {args.duration:g}")
+    if not 0 <= args.stops <= args.duration / 10.0:
+        raise InputError(
+            f"--stops {args.stops} is out of range for a {args.duration:g} s walk; give 0 to "
+            f"{int(args.duration / 10.0)} (one stop per 10 s of walk at most)"
+        )
 
 
 def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
@@ -154,6 +178,7 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
     from lowerlimb.io.bilateral_tables import write_bilateral_angles_csv, write_bilateral_positions_csv
     from lowerlimb.simulation import Artefacts, ImuNoise, simulate_bilateral
     from lowerlimb.simulation.magnetic_field import LAB_FIELD
+    from lowerlimb.simulation.pauses import PauseParams
 
     noise = ImuNoise() if args.noise == "realistic" else ImuNoise.none()
     sim = simulate_bilateral(
@@ -166,6 +191,7 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
         lab_field=None if args.uniform_field else LAB_FIELD,
         pace_changes=args.pace_changes,
         pace=args.pace,
+        stops=PauseParams(count=args.stops, pause_s=args.stop_s) if args.stops else None,
     )
     t = sim.trial.time_s
     writers: dict[Path, Callable[[Path], None]] = {targets["--out"]: sim.trial.to_csv}
@@ -192,7 +218,8 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
     write_files_atomically(writers, overwrite=args.force)
     print(
         f"wrote {args.out} ({sim.trial.n_samples} samples at {args.rate:g} Hz, walk, both legs"
-        f"{', real-walk artefacts' if sim.artefacts is not None else ''})"
+        f"{', real-walk artefacts' if sim.artefacts is not None else ''}"
+        f"{f', {args.stops} stops of {args.stop_s:g} s' if args.stops else ''})"
         f"{' and ' + str(args.truth) if args.truth else ''}"
     )
 
