@@ -25,10 +25,11 @@ and misalignment errors of all seven sensors); the same seeds are also scored ri
 are tabulated side by side; the real walk is not re-run.
 
 Usage: ``python benchmarks/gait.py [--data ../shared/data] [--seeds 201 202 …] [--duration 60]
-[--artefacts none|real] [--uniform-field] [--out DIR]``; writes ``gait.{md,json}``
+[--artefacts none|real] [--uniform-field] [--stops N] [--out DIR]``; writes ``gait.{md,json}``
 (``gait_artefacts.{md,json}`` with ``--artefacts real``, ``gait_uniform_field.{md,json}`` with
-``--uniform-field``: the simulator's uniform magnetic field, 9-axis fusion) in ``--out``
-(default ``benchmarks/results``).
+``--uniform-field``: the simulator's uniform magnetic field, 9-axis fusion; ``gait_stops`` with
+``--stops N``: a walker who stops N times and walks on) in ``--out`` (default
+``benchmarks/results``).
 """
 
 from __future__ import annotations
@@ -297,6 +298,12 @@ def _pace_text(sim: dict[str, Any]) -> str:
         if knee
         else ""
     )
+    stops = sim.get("stops", 0)
+    if stops:
+        out += (
+            f"**{stops} stops** of {sim['stop_s']:g} s each (`stops=PauseParams(count={stops})`: slowed to a "
+            "halt in double support, standing, walking on; the stride that spans a stop is not scored), "
+        )
     if sim.get("pace", "normal") == "normal":
         return out
     r = PACE_RANGES[sim["pace"]]
@@ -597,6 +604,13 @@ def main() -> None:
         "(gait_slow_artefacts with --artefacts real; the real walk is not re-run)",
     )
     ap.add_argument(
+        "--stops",
+        type=int,
+        default=0,
+        help="the walker stops this many times (3 s each) and walks on (writes gait_stops.{md,json}; "
+        "the real walk is not re-run)",
+    )
+    ap.add_argument(
         "--knee-rotation",
         type=float,
         default=0.0,
@@ -614,6 +628,7 @@ def main() -> None:
             uniform_field=args.uniform_field,
             pace=args.pace,
             knee_rotation=args.knee_rotation,
+            stops=PauseParams(count=args.stops) if args.stops else None,
         )
         for seed in args.seeds
     ]
@@ -625,11 +640,13 @@ def main() -> None:
             "duration_s": args.duration,
             "pace": args.pace,
             "knee_rotation_per_flexion": args.knee_rotation,
+            "stops": args.stops,
+            "stop_s": PauseParams().pause_s,
             "pooled": summarise_simulation(trials),
             "trials": trials,
         },
     }
-    variant = args.uniform_field or args.pace != "normal" or args.knee_rotation != 0.0
+    variant = args.uniform_field or args.pace != "normal" or args.knee_rotation != 0.0 or args.stops
     if (args.data / "gait").is_dir() and not variant:
         res["real"] = real(args.data)
     name = "gait_uniform_field" if args.uniform_field else "gait"
@@ -637,6 +654,8 @@ def main() -> None:
         name = f"gait_{args.pace}"
     if args.knee_rotation != 0.0:
         name = "gait_knee_rotation"
+    if args.stops:
+        name = "gait_stops"
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / f"{name}.json").write_text(json.dumps(res, indent=1, default=float) + "\n")
     (args.out / f"{name}.md").write_text(markdown(res))
