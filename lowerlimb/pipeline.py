@@ -41,6 +41,7 @@ from .calibration.thigh_twist import (
 )
 from .conventions import SENSORS, FloatArray, quat_from_matrix
 from .errors import InputError
+from .io.held_samples import warn_held_samples
 from .io.saturation import trial_saturation, warn_saturation
 from .io.trial import ImuTrial
 from .methods import ORIENTATION_FILTERS
@@ -507,9 +508,12 @@ def process_trial(
             by the anthropometric template (:mod:`lowerlimb.model.fallback`).
         SaturationWarning: a sensor's accelerometer or gyro is cut at its range
             (:mod:`lowerlimb.io.saturation`).
+        HeldSamplesWarning: a sensor's readings repeat the row before while it moves: a
+            lower rate held to the table's (:mod:`lowerlimb.io.held_samples`).
     """
     clock = _Stopwatch(progress)
     warn_saturation(trial_saturation(trial.acc, trial.gyr))
+    warn_held_samples(trial.acc, trial.gyr, trial.rate_hz)
     still = trial.still_period()  # detected once, handed on
     reference = trial.reference_samples(still)
 
