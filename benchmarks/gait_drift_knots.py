@@ -45,7 +45,11 @@ WALKS = [
 
 def score(sim: Any, legs: Any, knot_s: float) -> dict[str, float]:
     """Median / worst |step width error| and median |step length error|, mm, at one knot spacing."""
-    params = GaitParams(chain_drift_knot_s=knot_s if knot_s > 0 else None)
+    return score_gait(sim, legs, GaitParams(chain_drift_knot_s=knot_s if knot_s > 0 else None))
+
+
+def score_gait(sim: Any, legs: Any, params: GaitParams) -> dict[str, float]:
+    """The gait of processed legs analysed with ``params``: step width and length errors, mm."""
     gait = analyse_gait(legs, params)
     pairs = matched_strides(sim, SimpleNamespace(gait=gait))
     width = np.array([1000.0 * (c.step_width_m - st.step_width_m) for st, c in pairs])

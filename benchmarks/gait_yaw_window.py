@@ -42,8 +42,7 @@ from lowerlimb.simulation.pauses import PauseParams
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _realwalk import IDS, load_vicon, raw_dir  # noqa: E402
 from _results import write_results  # noqa: E402
-from gait import matched_strides  # noqa: E402
-from gait_drift_knots import WALKS  # noqa: E402
+from gait_drift_knots import WALKS, score_gait  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 #: (label, duration s, seed, keyword arguments of simulate_bilateral)
@@ -65,18 +64,6 @@ def _module(name: str) -> ModuleType:
     return mod
 
 
-def _sim_score(sim: Any, legs: Any, window_s: float) -> dict[str, float]:
-    gait = analyse_gait(legs, GaitParams(pair_yaw_window_s=window_s))
-    pairs = matched_strides(sim, SimpleNamespace(gait=gait))
-    width = np.array([1000.0 * (c.step_width_m - st.step_width_m) for st, c in pairs])
-    step = np.array([1000.0 * (c.step_length_m - st.step_length_m) for st, c in pairs])
-    return {
-        "width_median_abs_mm": float(np.nanmedian(np.abs(width))),
-        "width_worst_abs_mm": float(np.nanmax(np.abs(width))),
-        "step_median_abs_mm": float(np.nanmedian(np.abs(step))),
-    }
-
-
 def sim_walk(
     label: str, duration_s: float, seed: int, kw: dict[str, Any], windows: list[float]
 ) -> dict[str, Any]:
@@ -86,7 +73,8 @@ def sim_walk(
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         res = process_bilateral_trial(sim.trial)
-        return {"walk": label, "by_window": {str(w): _sim_score(sim, res.legs, w) for w in windows}}
+        by = {str(w): score_gait(sim, res.legs, GaitParams(pair_yaw_window_s=w)) for w in windows}
+        return {"walk": label, "by_window": by}
 
 
 def real_walk(data: Path, windows: list[float]) -> dict[str, Any]:
