@@ -45,7 +45,6 @@ def fit_hinge_joint(
     parent_sensor: str = "parent",
     child_sensor: str = "child",
     proximal_parent: bool = False,
-    keep: ArrayLike | None = None,
 ) -> HingeJointCalibration:
     """Axis and centre of a hinge on prepared signals (see the module docstring).
 
@@ -61,8 +60,6 @@ def fit_hinge_joint(
         proximal_parent: the parent sensor sits above the joint and the child below it, along
             their up at standing (a knee): the centre's fit tries more starts and prefers such
             a centre (:func:`below_parent_above_child`, ``options.hinge_centre_start_m``).
-        keep: (N,) booleans, the samples the centre's fit uses (``None``: all); the axis and
-            its sign are fitted on every sample (the sign rule reads the signals in time order).
 
     Returns:
         The hinge result; warnings are issued and recorded.
@@ -96,7 +93,6 @@ def fit_hinge_joint(
         child_sensor=child_sensor,
         gauge_axes=(axis.axis_in_parent_sensor, axis.axis_in_child_sensor),
         accept=below_parent_above_child(data, n_still) if proximal_parent else None,
-        keep=keep,
     )
     return HingeJointCalibration(axis=axis, center=center)
 

@@ -492,7 +492,6 @@ def _fit_leg(
         parent_sensor=pk,
         child_sensor=ck,
         proximal_parent=True,
-        keep=_without_limits(None, at_limit, (pk, ck), k, int(round(opts.impact_window_s * rate))),
     )
     if knee_check is not None:
         knee_check(knee)

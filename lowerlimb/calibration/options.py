@@ -175,13 +175,11 @@ class CalibrationOptions:
             to its one pair.
         saturation_exclusion: leave the samples at which a joint's sensor sits at the
             end of its range (:mod:`~lowerlimb.io.saturation`), and those within
-            ``impact_window_s`` of them, out of a leg's hip and ankle fits and its knee
-            centre's fit (not the knee axis's, whose sign rule reads the signals in time
-            order): a cut
+            ``impact_window_s`` of them, out of a leg's hip and ankle fits: a cut
             accelerometer or gyro breaks the rigid constraint there. On simulated seven-IMU
             walks with every accelerometer cut at ±2 g the shank went from 111 to 4 mm
             (median) off its true length (``benchmarks/results/saturation.md``). Nothing
-            changes on a trial with no cut sensor.
+            changes on a trial with no cut sensor. The knee's fit keeps every sample.
         impact_joints: the leg's spherical joints (``"hip"``, ``"ankle"``) whose fits
             leave impacts out. The ankle only: its pair spans the foot contact
             (on seven-IMU simulated walks the ankle in the shank went from 60 to
