@@ -177,7 +177,7 @@ class CalibrationOptions:
             end of its range (:mod:`~lowerlimb.io.saturation`), and those within
             ``impact_window_s`` of them, out of a leg's hip and ankle fits: a cut
             accelerometer or gyro breaks the rigid constraint there. On simulated seven-IMU
-            walks with every accelerometer cut at ±2 g the shank went from 111 to 4 mm
+            walks with every accelerometer cut at ±2 g the shank went from 121 to 7 mm
             (median) off its true length (``benchmarks/results/saturation.md``). Nothing
             changes on a trial with no cut sensor. The knee's fit keeps every sample.
         impact_joints: the leg's spherical joints (``"hip"``, ``"ankle"``) whose fits
