@@ -22,11 +22,10 @@ Usage: ``python benchmarks/gait_yaw_window.py [--data ../shared/data] [--windows
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import sys
 import warnings
 from pathlib import Path
-from types import ModuleType, SimpleNamespace
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -40,6 +39,7 @@ from lowerlimb.simulation import simulate_bilateral
 from lowerlimb.simulation.pauses import PauseParams
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import bilateral_gait as bg  # noqa: E402
 from _realwalk import IDS, load_vicon, raw_dir  # noqa: E402
 from _results import write_results  # noqa: E402
 from gait_drift_knots import WALKS, score_gait  # noqa: E402
@@ -52,16 +52,6 @@ SIM_WALKS: list[tuple[str, float, int, dict[str, Any]]] = [
     *[(f"60 s shuffle, seed {s}", 60.0, s, {"pace": "shuffle"}) for s in (201, 202, 203)],
     *[(f"60 s, 3 stops, seed {s}", 60.0, s, {"stops": PauseParams(count=3)}) for s in (201, 202, 203, 204)],
 ]
-
-
-def _module(name: str) -> ModuleType:
-    spec = importlib.util.spec_from_file_location(
-        f"{name}_for_yaw_window", ROOT / "benchmarks" / f"{name}.py"
-    )
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
 
 
 def sim_walk(
@@ -79,7 +69,6 @@ def sim_walk(
 
 def real_walk(data: Path, windows: list[float]) -> dict[str, Any]:
     """The real walk, processed once, scored at every window against Vicon (straight strides)."""
-    bg = _module("bilateral_gait")
     ge = bg._gait_events_module()
     vicon = load_vicon(data)
     rec = load_xsens(raw_dir(data), IDS)

@@ -26,7 +26,6 @@ readings are 3.0 g and 460 °/s).
 
 from __future__ import annotations
 
-import importlib.util
 import sys
 import warnings
 from collections.abc import Callable
@@ -45,6 +44,8 @@ from lowerlimb.io.bilateral_trial import BilateralTrial
 from lowerlimb.io.saturation import trial_saturation
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import bilateral_gait  # noqa: E402
+import gait as gait_benchmark  # noqa: E402
 from _realwalk import IDS, load_vicon, raw_dir  # noqa: E402
 from _results import real_data_main  # noqa: E402
 
@@ -63,15 +64,6 @@ ROWS: tuple[tuple[str, float, float, bool], ...] = (
     ("±2 g, ±250 °/s (MPU-6050 default)", 2, 250, True),
     ("±4 g, ±500 °/s", 4, 500, True),
 )
-
-
-def _module(name: str) -> ModuleType:
-    path = Path(__file__).resolve().parent / f"{name}.py"
-    spec = importlib.util.spec_from_file_location(f"{name}_for_saturation", path)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
 
 
 def _limits(acc_g: float, gyr_dps: float) -> dict[str, float]:
@@ -169,8 +161,7 @@ def _real_row(
 
 def run(data: Path) -> dict[str, Any]:
     """Every row on the simulated walks and on the real walk."""
-    gait = _module("gait")
-    bg = _module("bilateral_gait")
+    gait, bg = gait_benchmark, bilateral_gait
     ge = bg._gait_events_module()
     rec = load_xsens(raw_dir(data), IDS)
     base = BilateralTrial(rec.time_s, rec.acc, rec.gyr, rec.mag)

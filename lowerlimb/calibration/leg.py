@@ -325,7 +325,8 @@ def calibrate_leg(
 
     t0 = time.perf_counter()
     still = still or detect_still_period(list(gyr.values()), list(acc.values()), rate)
-    return _fit_in_band(_CheckedLeg(side, method, acc, gyr, rate, still, t0), opts)
+    at_limit = at_limit_samples(acc, gyr) if opts.saturation_exclusion else {}
+    return _fit_in_band(_CheckedLeg(side, method, acc, gyr, rate, still, t0, at_limit), opts)
 
 
 @dataclass(frozen=True)
@@ -340,6 +341,9 @@ class _CheckedLeg:
         rate: sampling rate, Hz.
         still: the still start (``None``: none found).
         t0: the :func:`time.perf_counter` at which the calibration began (``runtime_s``).
+        at_limit: ``{sensor: (N,) booleans}`` where a sensor sits at the end of its range
+            (:func:`at_limit_samples`; empty without ``saturation_exclusion``), found once for
+            every fit of the leg.
     """
 
     side: str
@@ -349,6 +353,7 @@ class _CheckedLeg:
     rate: float
     still: StillPeriod | None
     t0: float
+    at_limit: dict[str, NDArray[np.bool_]] = field(default_factory=dict)
 
 
 def _fit_in_band(leg: _CheckedLeg, opts: CalibrationOptions) -> LegCalibration:
@@ -444,7 +449,7 @@ def _fit_leg(
     ``knee_check`` sees the knee as soon as it is fitted and may raise to stop the fit.
     """
     side, method, acc, gyr, rate, still = leg.side, leg.method, leg.acc, leg.gyr, leg.rate, leg.still
-    at_limit = at_limit_samples(acc, gyr) if opts.saturation_exclusion else {}
+    at_limit = leg.at_limit if opts.saturation_exclusion else {}
     offsets: dict[str, float] = {}
     n_rest = still.samples(opts.still_min_s) if still is not None else 0
     if n_rest and opts.rest_gravity_correction:
