@@ -56,6 +56,7 @@ from lowerlimb.model.fallback import segment_lengths
 from lowerlimb.simulation import Artefacts, simulate_bilateral
 from lowerlimb.simulation.footsteps import PACE_RANGES, PACES
 from lowerlimb.simulation.pauses import PauseParams
+from lowerlimb.simulation.treadmill import TreadmillParams
 
 ROOT = Path(__file__).resolve().parents[1]
 MATCH_S = 0.2
@@ -180,6 +181,7 @@ def score_simulation(
     knee_rotation: float = 0.0,
     transform: Callable[[Any], Any] | None = None,
     stops: PauseParams | None = None,
+    treadmill: TreadmillParams | None = None,
 ) -> dict[str, Any]:
     """One simulated walk through the two-leg pipeline, scored against its truth.
 
@@ -190,11 +192,13 @@ def score_simulation(
     (``normal`` or ``slow``, :data:`lowerlimb.simulation.footsteps.PACE_RANGES`);
     ``knee_rotation`` the knees' internal rotation per rad of flexion (0: hinges);
     ``transform`` maps the simulated trial to the one processed (``None``: as simulated);
-    ``stops`` makes the walker stop and stand (``None``: walks on).
+    ``stops`` makes the walker stop and stand (``None``: walks on); ``treadmill`` puts the
+    walk on a treadmill (``None``: overground).
     """
     kw: dict[str, Any] = {"lab_field": None} if uniform_field else {}
     kw["knee_rotation_per_flexion"] = knee_rotation
     kw["stops"] = stops
+    kw["treadmill"] = treadmill
     sim = simulate_bilateral(duration_s, seed, artefacts=artefacts, rate_hz=rate_hz, pace=pace, **kw)
     trial = sim.trial if transform is None else transform(sim.trial)
     t0 = time.perf_counter()
@@ -244,6 +248,9 @@ def score_simulation(
         side: {name: float(rmse[9 * i + k]) for k, name in enumerate(ANGLES)} for i, side in enumerate(SIDES)
     }
     out["joint_err"] = _joint_errors(res, sim.truth) | _length_errors(res, sim.truth)
+    drift = res.gait.parameters.track_drift if res.gait.parameters is not None else None
+    out["heading_spread"] = None if drift is None else drift.heading_spread
+    out["used_mag"] = {s: bool(res.legs[s].used_mag) for s in SIDES}
     c_true = {s: np.asarray(sim.truth["legs"][s]["joints"]["hip"]["center_in_parent_sensor"]) for s in SIDES}
     out["hip_spacing_err_mm"] = 1000.0 * (
         res.hips.spacing_m - float(np.linalg.norm(c_true["right"] - c_true["left"]))

@@ -160,6 +160,7 @@ def test_step_geometry_survives_a_drifting_track(side):
         "chain_bias_left_m",
         "residual_sd_m",
         "steps_used",
+        "heading_spread",
     }
     # each foot's stride length is its own track's: the drift between the feet leaves it alone
     assert [s.stride_length_m for s in found.strides] == [s.stride_length_m for s in lost.strides]

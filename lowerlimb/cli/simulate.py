@@ -96,6 +96,13 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         help="with --stops: each stop's standing time, s (default: 3)",
     )
     p.add_argument(
+        "--treadmill",
+        action="store_true",
+        help="with --side both: walk straight on a treadmill whose belt carries the walker back to "
+        "one spot of the lab (the sensors' lab-frame signals while the belt starts, the lab's field "
+        "where they are in the lab and the drive motor's; stride length and speed relative to the belt)",
+    )
+    p.add_argument(
         "--force", action="store_true", help="replace existing files (default: refuse to overwrite)"
     )
 
@@ -140,14 +147,15 @@ def _check_two_leg_options(args: argparse.Namespace) -> None:
 
     Raises:
         InputError: ``--side both`` with another motion, soft tissue, or too short;
-            ``--pace-changes``, ``--pace`` or ``--stops`` without ``--side both``; more
-            stops than one per 10 s.
+            ``--pace-changes``, ``--pace``, ``--stops`` or ``--treadmill`` without
+            ``--side both``; more stops than one per 10 s; stops on a treadmill.
     """
     if args.side != "both":
         two_leg_only = (
             ("--pace-changes", args.pace_changes),
             (f"--pace {args.pace}", args.pace != "normal"),
             (f"--stops {args.stops}", args.stops != 0),
+            ("--treadmill", args.treadmill),
         )
         for flag, used in two_leg_only:
             if used:
@@ -170,6 +178,8 @@ def _check_two_leg_options(args: argparse.Namespace) -> None:
             f"--stops {args.stops} is out of range for a {args.duration:g} s walk; give 0 to "
             f"{int(args.duration / 10.0)} (one stop per 10 s of walk at most)"
         )
+    if args.treadmill and args.stops:
+        raise InputError("--treadmill walks have no --stops; drop one of them")
 
 
 def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
@@ -179,6 +189,7 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
     from lowerlimb.simulation import Artefacts, ImuNoise, simulate_bilateral
     from lowerlimb.simulation.magnetic_field import LAB_FIELD
     from lowerlimb.simulation.pauses import PauseParams
+    from lowerlimb.simulation.treadmill import TreadmillParams
 
     noise = ImuNoise() if args.noise == "realistic" else ImuNoise.none()
     sim = simulate_bilateral(
@@ -192,6 +203,7 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
         pace_changes=args.pace_changes,
         pace=args.pace,
         stops=PauseParams(count=args.stops, pause_s=args.stop_s) if args.stops else None,
+        treadmill=TreadmillParams() if args.treadmill else None,
     )
     t = sim.trial.time_s
     writers: dict[Path, Callable[[Path], None]] = {targets["--out"]: sim.trial.to_csv}
@@ -219,7 +231,8 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
     print(
         f"wrote {args.out} ({sim.trial.n_samples} samples at {args.rate:g} Hz, walk, both legs"
         f"{', real-walk artefacts' if sim.artefacts is not None else ''}"
-        f"{f', {args.stops} stops of {args.stop_s:g} s' if args.stops else ''})"
+        f"{f', {args.stops} stops of {args.stop_s:g} s' if args.stops else ''}"
+        f"{', on a treadmill' if args.treadmill else ''})"
         f"{' and ' + str(args.truth) if args.truth else ''}"
     )
 

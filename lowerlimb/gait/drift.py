@@ -46,7 +46,7 @@ from lowerlimb.conventions import FloatArray
 from lowerlimb.gait.contacts import Contacts, heading_change_rad
 from lowerlimb.gait.params import GaitParams
 
-__all__ = ["ChainSteps", "TrackDrift", "fit_track_drift", "track_drift"]
+__all__ = ["ChainSteps", "TrackDrift", "fit_track_drift", "heading_spread", "track_drift"]
 
 _MIN_SD_M = 1e-4  # floor of the residual scale (an exact chain in tests), m
 
@@ -82,6 +82,12 @@ class TrackDrift:
         residual_sd_m: robust SD of the chain-minus-track residuals, m.
         steps_used: number of chain steps fitted.
         moving_side: the foot whose track moved (``"right"``: against the left one).
+        heading_spread: how much the fitted steps' walking directions differ,
+            ``sqrt(1 − |mean u|²)`` of their unit vectors ``u`` (0: one direction, a
+            straight walk or a treadmill; about 0.2–0.5 on a walk that bends by 15–45°; 1:
+            as many steps one way as back). The chain's bias ``b`` is told from the
+            anchor's error only through this spread: near 0, the fit keeps the standing
+            anchor and step width carries the chain's sideways error at standing.
     """
 
     knot_time_s: FloatArray
@@ -90,6 +96,7 @@ class TrackDrift:
     residual_sd_m: float
     steps_used: int
     moving_side: str = "right"
+    heading_spread: float = 0.0
 
     def at(self, time_s: FloatArray) -> FloatArray:
         """(N, 2) drift at ``time_s`` (s), m; constant before the anchor and after the last knot."""
@@ -112,6 +119,7 @@ class TrackDrift:
             "chain_bias_left_m": float(self.chain_bias_m[1]),
             "residual_sd_m": self.residual_sd_m,
             "steps_used": self.steps_used,
+            "heading_spread": self.heading_spread,
         }
 
 
@@ -157,7 +165,16 @@ def fit_track_drift(
     k = (M.shape[1] - 2) // 2
     F = np.zeros((n_knots, 2))
     F[n_knots - k :, 0], F[n_knots - k :, 1] = sol[2 : 2 + k], sol[2 + k :]
-    return TrackDrift(knots, F, sol[:2].copy(), sd, len(t))
+    return TrackDrift(knots, F, sol[:2].copy(), sd, len(t), heading_spread=heading_spread(u))
+
+
+def heading_spread(walking_dir: FloatArray) -> float:
+    """``sqrt(1 − |mean u|²)`` of (M, 2) unit walking directions: 0 for one direction, 1 for opposite ones."""
+    u = np.asarray(walking_dir, dtype=float).reshape(-1, 2)
+    if u.shape[0] == 0:
+        return 0.0
+    r = float(np.linalg.norm(u.mean(axis=0)))
+    return float(np.sqrt(max(0.0, 1.0 - min(r, 1.0) ** 2)))
 
 
 def _design(

@@ -18,7 +18,7 @@ tip (toe rocker, until toe-off) are pivots with zero velocity.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -72,6 +72,7 @@ from .simulator import (
 )
 from .tissue_motion import TissueMotion
 from .toe_rocker import PreSwingParams
+from .treadmill import TreadmillParams, belt_travel, lab_positions, lab_specific_force, motor_dipole, straight
 
 __all__ = ["BilateralSimulation", "simulate_bilateral"]
 
@@ -388,16 +389,27 @@ def _measure(
 
 
 def _magnetometers(
-    rot: dict[str, FloatArray], pos: dict[str, FloatArray], lab_field: LabField | None, seed: int
+    rot: dict[str, FloatArray],
+    pos: dict[str, FloatArray],
+    lab_field: LabField | None,
+    seed: int,
+    extra: tuple[FloatArray, FloatArray] | None = None,
 ) -> dict[str, FloatArray]:
     """``{sensor: (N, 3)}`` clean field in the sensor frames, µT: uniform, or the lab's.
 
     The lab's (:mod:`~lowerlimb.simulation.magnetic_field`) dipoles are drawn from their own
-    generator, so that the noise of a seed stays the same.
+    generator, so that the noise of a seed stays the same; ``extra`` adds dipoles
+    (positions (K, 3) m, moments (K, 3) A·m²: a treadmill's motor) to either field.
     """
-    if lab_field is None:
+    if lab_field is None and extra is None:
         return {k: np.einsum("nji,j->ni", R, MAG_FIELD_ENU_UT) for k, R in rot.items()}
-    grid = dipole_grid(np.vstack(list(pos.values())), lab_field, np.random.default_rng([seed, 17]))
+    grid = (
+        dipole_grid(np.vstack(list(pos.values())), lab_field, np.random.default_rng([seed, 17]))
+        if lab_field is not None
+        else (np.zeros((0, 3)), np.zeros((0, 3)))
+    )
+    if extra is not None:
+        grid = (np.vstack([grid[0], extra[0]]), np.vstack([grid[1], extra[1]]))
     return {
         k: np.einsum("nji,nj->ni", R, field_enu_ut(pos[k], MAG_FIELD_ENU_UT, grid)) for k, R in rot.items()
     }
@@ -442,6 +454,7 @@ def simulate_bilateral(
     limb_vibration_deg: float | tuple[float, float, float] = 0.0,
     knee_rotation_per_flexion: float = 0.0,
     stops: PauseParams | None = None,
+    treadmill: TreadmillParams | None = None,
 ) -> BilateralSimulation:
     """Simulate a seven-IMU walk (pelvis, both thighs, shanks and feet) with known truth.
 
@@ -489,13 +502,18 @@ def simulate_bilateral(
         stops: The walker stops ``stops.count`` times, spread over the walk, and stands still
             in double support for ``stops.pause_s`` (:mod:`lowerlimb.simulation.pauses`; the
             walk is the steady one's, slowed to a halt and started again; ``None``: no stop).
+        treadmill: The walker walks straight on a treadmill whose belt carries them back to one
+            spot of the lab (:mod:`lowerlimb.simulation.treadmill`: the lab-frame specific
+            force while the belt speeds up, the lab's field where the sensors are in the lab
+            and the drive motor's); the truth stays in the belt's frame. ``None``: overground.
 
     Returns:
         A :class:`BilateralSimulation`.
 
     Raises:
         InputError: too short a trial, a non-positive rate, an unknown pace, a negative or
-            non-finite limb vibration, a non-finite or implausible knee rotation, or bad stops.
+            non-finite limb vibration, a non-finite or implausible knee rotation, bad stops, a
+            bad treadmill, or stops on a treadmill.
     """
     t_start = time.perf_counter()
     if rate_hz <= 0 or duration_s < still_s + 4.0:
@@ -517,6 +535,10 @@ def simulate_bilateral(
         )
     if stops is not None:
         stops.validate()
+    if treadmill is not None:
+        treadmill.validate()
+        if stops is not None and stops.count:
+            raise InputError("a simulated treadmill walk has no stops; drop stops or treadmill")
     noise = ImuNoise() if noise is None else noise
     rng = np.random.default_rng(seed)
     art = artefacts if artefacts is not None and artefacts.active else None
@@ -525,6 +547,8 @@ def simulate_bilateral(
     d = draw_walk(rng, pace)
     if pace_changes:
         d = _pace_changes(d, np.random.default_rng([seed, 11]))
+    if treadmill is not None:
+        d = straight(d)
     t = np.arange(int(round(duration_s * rate_hz))) / rate_hz
     t0 = still_s
     z_stand, stand = _standing(legs, d.heading0_rad)
@@ -566,7 +590,14 @@ def simulate_bilateral(
     acc = _two_leg({s: sig[s].acc for s in SIDES})
     gyr = _two_leg({s: sig[s].gyr for s in SIDES})
     rot = _two_leg({s: sig[s].rot for s in SIDES})
-    mag = _magnetometers(rot, _two_leg({s: sig[s].pos for s in SIDES}), lab_field, seed)
+    pos = _two_leg({s: sig[s].pos for s in SIDES})
+    motor = None
+    if treadmill is not None:
+        travel = belt_travel(path[1])
+        acc = lab_specific_force(acc, rot, t, travel)
+        pos = lab_positions(pos, travel, treadmill)
+        motor = motor_dipole(pos["pelvis"], d.heading0_rad, treadmill, np.random.default_rng([seed, 19]))
+    mag = _magnetometers(rot, pos, lab_field, seed, motor)
     clean = BilateralTrial(t.copy(), acc, gyr, mag)
     errors = draw_sensor_errors(art, t.size, art_rng, tuple(acc)) if art is not None else None
     trial, bias = _measure(t, clean, errors, noise, rng, with_mag)
@@ -574,6 +605,8 @@ def simulate_bilateral(
     gt = gait_truth({s: feet[s].events for s in SIDES}, ankle, t)
     models = {s: LegModel(legs[s].geometry) for s in SIDES}
     truth = _truth(models, d, gt, bias, seed, rate_hz, duration_s, height_m, mass_kg, noise, feet)
+    if treadmill is not None:
+        truth["treadmill"] = asdict(treadmill)
     art_truth = None
     if art is not None and errors is not None and tissue is not None:
         base_pl = {s: sig[s].base_pl for s in SIDES}
