@@ -102,6 +102,13 @@ def test_outlying_steps_do_not_pull_the_drift():
     assert np.median(np.linalg.norm(fit.at(t) - _drift(t), axis=1)) < 0.015
 
 
+def test_laps_spread_the_walking_directions():
+    rng = np.random.default_rng(4)
+    t, u = _walk(300.0, "laps", rng)
+    fit = fit_track_drift(t, _offsets(t, u, _drift, np.zeros(2), 0.03, rng), u, 0.5, GaitParams())
+    assert fit is not None and fit.heading_spread > 0.9  # as many steps one way as back
+
+
 def test_too_few_steps_or_switched_off_leave_the_tracks():
     rng = np.random.default_rng(4)
     t, u = _walk(300.0, "laps", rng)
@@ -138,6 +145,14 @@ def test_step_geometry_survives_a_drifting_track(side):
     found = compute_gait_parameters(ev, *tracks, anchor=anchor, chain=[chain], params=p)
     assert found.track_drift is not None and lost.track_drift is None
     assert found.track_drift.moving_side == side
+    # a straight walk: the chain checked the drift but not the anchor's sideways error
+    assert found.track_drift.heading_spread < p.straight_heading_spread
+    assert found.step_width_basis == "standing_chain_straight_walk"
+    assert lost.step_width_basis == "standing_chain"
+    assert compute_gait_parameters(ev, *tracks, params=p).step_width_basis is None  # not anchored
+    turned = replace(found, track_drift=replace(found.track_drift, heading_spread=0.4))
+    assert turned.step_width_basis == "chain_over_turns"
+    assert found.to_dict()["step_width_basis"] == "standing_chain_straight_walk"
 
     def steps(gp):
         rows = [(s.step_length_m, s.step_width_m) for s in gp.strides]

@@ -19,6 +19,7 @@ from lowerlimb.bilateral import process_bilateral_trial
 from lowerlimb.conventions import GRAVITY_ENU, quat_to_matrix
 from lowerlimb.errors import InputError
 from lowerlimb.gait.drift import heading_spread
+from lowerlimb.outputs_bilateral import gait_summary_lines
 from lowerlimb.simulation import BilateralSimulation, ImuNoise, simulate_bilateral
 from lowerlimb.simulation.treadmill import TreadmillParams, lab_specific_force
 
@@ -95,6 +96,9 @@ def test_the_pipeline_finds_belt_strides_and_reports_a_straight_walk() -> None:
     params = res.gait.parameters
     assert params is not None and params.track_drift is not None
     assert params.track_drift.heading_spread < 0.05
+    assert params.step_width_basis == "standing_chain_straight_walk"
+    lines = gait_summary_lines(res)
+    assert lines[0].startswith("gait ") and "the walk is straight" in lines[1]
     true = {(s.side, round(s.start_s, 1)): s.stride_length_m for s in sim.gait.strides}
     errs = [
         c.stride_length_m / true[(c.side, round(c.start_s, 1))] - 1.0

@@ -137,6 +137,24 @@ class GaitParameters:
             "cadence_steps_per_min": ms([60.0 / s.step_time_s for s in steps]),
         }
 
+    @property
+    def step_width_basis(self) -> str | None:
+        """What sets the feet's sideways offset, hence step width's constant part.
+
+        ``None``: not anchored (no step width); ``"standing_chain"``: the calibrated chain at
+        the standing start alone (fewer than ``chain_drift_min_steps`` steps, or no drift
+        fit); ``"standing_chain_straight_walk"``: the chain over the walk could not check it,
+        the walk being straight (:attr:`GaitParams.straight_heading_spread`); ``"chain_over_turns"``:
+        the walk's turns told the chain's bias from the anchor's error (:mod:`lowerlimb.gait.drift`).
+        """
+        if not self.anchored:
+            return None
+        if self.track_drift is None:
+            return "standing_chain"
+        if self.track_drift.heading_spread < self.params.straight_heading_spread:
+            return "standing_chain_straight_walk"
+        return "chain_over_turns"
+
     def to_dict(self) -> dict[str, Any]:
         """The docs/formats.md ``gait.json`` content (straight strides), with extra keys."""
         both = self.summary(None)
@@ -153,6 +171,7 @@ class GaitParameters:
         out["anchored"] = self.anchored
         out["track_drift_max_m"] = None if self.track_drift is None else self.track_drift.max_m
         out["track_drift"] = None if self.track_drift is None else self.track_drift.to_dict()
+        out["step_width_basis"] = self.step_width_basis
         out["event_sources"] = self.event_sources
         out["params"] = asdict(self.params)
         return out

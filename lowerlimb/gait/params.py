@@ -113,6 +113,11 @@ class GaitParams:
             walking straight the prior keeps the anchor (:mod:`lowerlimb.gait.drift`).
             ``None``: the drift is pinned to zero at the anchor.
         chain_drift_min_steps: Fewer chain steps than this leave the tracks as anchored.
+        straight_heading_spread: A drift fit whose steps' walking directions spread less
+            than this (:attr:`~lowerlimb.gait.drift.TrackDrift.heading_spread`) cannot tell
+            the chain's bias from the anchor's error: the walk counts as straight and step
+            width rests on the standing chain (``gait.json``'s ``step_width_basis``; 0.003–0.03
+            on simulated treadmill walks, 0.33–0.54 on walks that bend by 17–46°).
         chain_drift_huber: Huber threshold of the drift fit, in robust SDs of its residuals.
         chain_drift_iterations: Reweighting passes of the drift fit.
         chain_stance_margin_s: The chain's walking direction is the stance ankle's path
@@ -156,6 +161,7 @@ class GaitParams:
     chain_drift_sd_m: float = 0.05
     chain_anchor_sd_m: float | None = 0.02
     chain_drift_min_steps: int = 20
+    straight_heading_spread: float = 0.1
     chain_drift_huber: float = 2.5
     chain_drift_iterations: int = 5
     chain_stance_margin_s: float = 0.1
@@ -179,6 +185,10 @@ class GaitParams:
             raise InputError(
                 "chain_drift_min_steps and chain_drift_iterations must be at least 1, got "
                 f"{self.chain_drift_min_steps} and {self.chain_drift_iterations}"
+            )
+        if not 0.0 <= self.straight_heading_spread <= 1.0:
+            raise InputError(
+                f"straight_heading_spread must be within [0, 1], got {self.straight_heading_spread}"
             )
         if not self.chain_stance_margin_s >= 0:
             raise InputError(f"chain_stance_margin_s must be >= 0 s, got {self.chain_stance_margin_s}")
