@@ -24,10 +24,12 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import json
 import sys
 import tempfile
 import warnings
 from collections import Counter
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -37,6 +39,7 @@ from lowerlimb.orientation.sign_check import InvertedSignError
 from lowerlimb.pipeline import process_trial
 from lowerlimb.segments.angle_range import ImplausibleAnglesWarning
 from lowerlimb.simulation import Artefacts, simulate, simulate_bilateral
+from lowerlimb.simulation.treadmill import TreadmillParams
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import bilateral_gait as BG  # noqa: E402
@@ -111,12 +114,16 @@ def _one_leg_rows(trial: Any, tag: str) -> list[dict[str, Any]]:
     return rows
 
 
-def simulated_two_legs(seeds: tuple[int, ...], pace: str = "normal") -> list[dict[str, Any]]:
+def simulated_two_legs(
+    seeds: tuple[int, ...], pace: str = "normal", treadmill: bool = False
+) -> list[dict[str, Any]]:
+    """Each seed rigid and with artefacts, or rigid only on a treadmill."""
     rows: list[dict[str, Any]] = []
-    for art in (None, Artefacts.real_walk()):
+    for art in (None,) if treadmill else (None, Artefacts.real_walk()):
         for seed in seeds:
-            sim = simulate_bilateral(60.0, seed, artefacts=art, pace=pace)
-            rows += _two_leg_rows(sim.trial, f"{seed}{' artefacts' if art else ''}")
+            tm = TreadmillParams() if treadmill else None
+            sim = simulate_bilateral(60.0, seed, artefacts=art, pace=pace, treadmill=tm)
+            rows += _two_leg_rows(sim.trial, f"{seed}{' artefacts' if art else ''}", use_mag=False)
     return rows
 
 
@@ -168,6 +175,9 @@ def markdown(res: dict[str, list[dict[str, Any]]]) -> str:
         "two_legs": "Simulated two-leg walks (seeds 201–206, 60 s, straight; rigid and with artefacts)",
         "two_legs_slow": 'The same walks at the slow pace (`pace="slow"`: 0.55–0.85 m/s)',
         "one_leg": "Simulated one-leg motions (6 motions × seeds 1–2 × rigid / artefacts, 40 s)",
+        "treadmill": "Simulated treadmill walks (seeds 201–206, 60 s, rigid; `treadmill=TreadmillParams()`: "
+        "straight, no turn at all)",
+        "treadmill_slow": 'The same treadmill walks at the slow pace (`pace="slow"`)',
     }
     for key, title in titles.items():
         if res.get(key):
@@ -179,14 +189,29 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
     ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
     ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results")
+    ap.add_argument(
+        "--sections",
+        nargs="+",
+        choices=tuple(SECTIONS),
+        default=tuple(SECTIONS),
+        help="run only these (the others are kept from the JSON already in --out)",
+    )
     args = ap.parse_args()
-    res = {
-        "real": real(args.data),
-        "two_legs": simulated_two_legs(SEEDS),
-        "two_legs_slow": simulated_two_legs(SEEDS, pace="slow"),
-        "one_leg": simulated_one_leg(),
-    }
+    old = args.out / "sign_check.json"
+    res = json.loads(old.read_text()) if old.is_file() else {}
+    for name in args.sections:
+        res[name] = SECTIONS[name](args.data)
     write_results(args.out, "sign_check", res, markdown(res))
+
+
+SECTIONS: dict[str, Callable[[Path], list[dict[str, Any]]]] = {
+    "real": real,
+    "two_legs": lambda _: simulated_two_legs(SEEDS),
+    "two_legs_slow": lambda _: simulated_two_legs(SEEDS, pace="slow"),
+    "one_leg": lambda _: simulated_one_leg(),
+    "treadmill": lambda _: simulated_two_legs(SEEDS, treadmill=True),
+    "treadmill_slow": lambda _: simulated_two_legs(SEEDS, pace="slow", treadmill=True),
+}
 
 
 if __name__ == "__main__":

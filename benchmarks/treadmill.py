@@ -16,8 +16,12 @@ The heading spread is :attr:`lowerlimb.gait.drift.TrackDrift.heading_spread` (0:
 one way): on a straight walk the chain's constant bias cannot be told from the standing
 anchor's error, and step width carries the calibrated chain's sideways error at standing.
 
-Usage: ``python benchmarks/treadmill.py [--seeds …] [--duration S] [--out DIR]``; writes
-``treadmill.{md,json}``.
+``--pace slow`` (``treadmill_slow``) and ``--artefacts real`` (``treadmill_artefacts``: the
+simulator's real-walk artefact profile on all seven sensors) run the same comparison for slow
+walkers and for non-rigid sensors.
+
+Usage: ``python benchmarks/treadmill.py [--seeds …] [--duration S] [--pace normal|slow|shuffle]
+[--artefacts none|real] [--out DIR]``; writes ``treadmill.{md,json}`` (or the variant's name).
 """
 
 from __future__ import annotations
@@ -34,6 +38,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import gait as G  # noqa: E402
 
+from lowerlimb.simulation import Artefacts  # noqa: E402
+from lowerlimb.simulation.footsteps import PACES  # noqa: E402
 from lowerlimb.simulation.treadmill import TreadmillParams  # noqa: E402
 
 VARIANTS = ("overground", "treadmill", "treadmill_no_mag")
@@ -48,19 +54,30 @@ def _drop_mag(trial: Any) -> Any:
     return replace(trial, mag=None)
 
 
-def run_variant(variant: str, seed: int, duration_s: float) -> dict[str, Any]:
+def run_variant(
+    variant: str, seed: int, duration_s: float, pace: str = "normal", artefacts: Artefacts | None = None
+) -> dict[str, Any]:
     """One seed's walk, overground or on the treadmill, scored against its truth."""
     treadmill = None if variant == "overground" else TreadmillParams()
     transform = _drop_mag if variant == "treadmill_no_mag" else None
-    return G.score_simulation(seed, duration_s, treadmill=treadmill, transform=transform)
+    return G.score_simulation(
+        seed, duration_s, artefacts=artefacts, pace=pace, treadmill=treadmill, transform=transform
+    )
+
+
+def _finite(x: list[float]) -> np.ndarray:
+    a = np.asarray(x, dtype=float)
+    return a[np.isfinite(a)]
 
 
 def _abs_median(x: list[float]) -> float:
-    return float(np.median(np.abs(x))) if len(x) else float("nan")
+    a = _finite(x)
+    return float(np.median(np.abs(a))) if a.size else float("nan")
 
 
 def _abs_max(x: list[float]) -> float:
-    return float(np.max(np.abs(x))) if len(x) else float("nan")
+    a = _finite(x)
+    return float(np.max(np.abs(a))) if a.size else float("nan")
 
 
 def trial_row(tr: dict[str, Any]) -> dict[str, Any]:
@@ -73,7 +90,9 @@ def trial_row(tr: dict[str, Any]) -> dict[str, Any]:
         "stride_pct": _abs_median(tr["stride_length_pct"]),
         "width_median_mm": _abs_median(tr["step_width_mm"]),
         "width_worst_mm": _abs_max(tr["step_width_mm"]),
-        "width_bias_mm": float(np.mean(tr["step_width_mm"])) if tr["step_width_mm"] else float("nan"),
+        "width_bias_mm": float(np.mean(_finite(tr["step_width_mm"])))
+        if _finite(tr["step_width_mm"]).size
+        else float("nan"),
         "length_worst_mm": max(lengths) if lengths else float("nan"),
         "angle_worst_deg": max(max(v.values()) for v in tr["angle_rmse_deg"].values()),
         "heading_spread": tr["heading_spread"],
@@ -81,13 +100,24 @@ def trial_row(tr: dict[str, Any]) -> dict[str, Any]:
     }
 
 
+def _walker(res: dict[str, Any]) -> str:
+    """``"slow walkers, "`` / ``"the real-walk artefact profile, "`` or ``""``."""
+    out = (
+        "" if res.get("pace", "normal") == "normal" else f'**{res["pace"]} pace** (`pace="{res["pace"]}"`), '
+    )
+    if res.get("artefacts"):
+        out += "**the real-walk artefact profile** on all seven sensors (`Artefacts.real_walk()`), "
+    return out
+
+
 def markdown(res: dict[str, Any]) -> str:
     seeds = res["seeds"]
     L = [
         "# Treadmill walks: the same walkers overground and on a treadmill",
         "",
-        f"`simulate_bilateral` seeds {', '.join(map(str, seeds))}, {res['duration_s']:g} s, realistic "
-        "noise, the lab's magnetic field (`simulation/magnetic_field.py`), each seed overground (its "
+        f"`simulate_bilateral` seeds {', '.join(map(str, seeds))}, {res['duration_s']:g} s, "
+        f"{_walker(res)}realistic noise, the lab's magnetic field (`simulation/magnetic_field.py`), "
+        "each seed overground (its "
         "path bends by 17–46°), on a treadmill (`treadmill=TreadmillParams()`: straight; the belt's "
         "start-up in the lab-frame signals; the lab's field where the sensors are in the lab and the "
         "drive motor's, nearly constant in time, so the magnetometer check accepts it and it is "
@@ -136,19 +166,28 @@ def markdown(res: dict[str, Any]) -> str:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     G.add_walk_arguments(ap)
+    ap.add_argument("--pace", choices=PACES, default="normal", help="the walkers' pace")
+    ap.add_argument("--artefacts", choices=("none", "real"), default="none", help="real: non-rigid sensors")
     args = ap.parse_args()
-    trials = {v: [run_variant(v, seed, args.duration) for seed in args.seeds] for v in VARIANTS}
+    art = Artefacts.real_walk() if args.artefacts == "real" else None
+    trials = {
+        v: [run_variant(v, seed, args.duration, args.pace, art) for seed in args.seeds] for v in VARIANTS
+    }
     res: dict[str, Any] = {
         "seeds": args.seeds,
         "duration_s": args.duration,
+        "pace": args.pace,
+        "artefacts": args.artefacts == "real",
         "treadmill": TreadmillParams().__dict__,
         "pooled": {v: G.summarise_simulation(trials[v]) for v in VARIANTS},
         "variants": {v: [trial_row(tr) for tr in trials[v]] for v in VARIANTS},
         "trials": trials,
     }
+    name = "treadmill" + ("" if args.pace == "normal" else f"_{args.pace}")
+    name += "_artefacts" if args.artefacts == "real" else ""
     args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "treadmill.json").write_text(json.dumps(res, indent=1, default=float) + "\n")
-    (args.out / "treadmill.md").write_text(markdown(res))
+    (args.out / f"{name}.json").write_text(json.dumps(res, indent=1, default=float) + "\n")
+    (args.out / f"{name}.md").write_text(markdown(res))
     print(markdown(res))
 
 

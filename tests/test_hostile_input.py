@@ -110,7 +110,9 @@ def test_an_accelerometer_in_mm_per_s2_is_a_unit_not_a_glitch(files, tmp_path, c
     ("sensor", "message"),
     [
         ("shank", "the shank turns against the neighbouring segments"),
-        ("pelvis", "a pelvis accelerometer that reads -9.81 along up at rest mirrors the hip too"),
+        # named by its turns since the sign check correlates turns, not strides (before, the
+        # hip's mirror check found it: "a pelvis accelerometer that reads -9.81 … mirrors the hip")
+        ("pelvis", "the pelvis turns against the neighbouring segments"),
     ],
 )
 def test_a_negated_accelerometer_is_named(files, tmp_path, capsys, sensor, message):

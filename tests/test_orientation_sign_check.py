@@ -21,14 +21,26 @@ CHAIN = (("pelvis", "thigh"), ("thigh", "shank"), ("shank", "foot"))
 FLIP_X = np.array([0.0, 1.0, 0.0, 0.0])  # the earth turned 180° about a horizontal axis
 
 
-def _turning(inverted: tuple[str, ...] = (), still: tuple[str, ...] = (), seconds: float = 20.0):
-    """Sensors turning together about the vertical; ``inverted`` ones see the world upside down."""
+def _turning(
+    inverted: tuple[str, ...] = (),
+    still: tuple[str, ...] = (),
+    seconds: float = 20.0,
+    turn: float = 1.5,
+    against: tuple[str, ...] = (),
+):
+    """Sensors turning together about the vertical; ``inverted`` ones see the world upside down.
+
+    Each turns by a stride's oscillation (0.9 Hz, 0.4 rad) and, ``turn`` times as far, by a
+    slow turn of the walk (0.05 Hz); ``against`` ones oscillate in opposition (a walker
+    whose thigh counter-rotates against the pelvis).
+    """
     t = np.arange(0.0, seconds, 1.0 / RATE)
     rng = np.random.default_rng(0)
     quat, gyr = {}, {}
     for s in ("pelvis", "thigh", "shank", "foot", "thigh_r", "shank_r", "foot_r"):
         amp = 0.0 if s in still else 0.4
-        yaw = amp * np.sin(2 * np.pi * 0.9 * t) + 0.2 * amp * np.sin(2 * np.pi * 0.3 * t + 1.0)
+        sign = -1.0 if s in against else 1.0
+        yaw = sign * amp * np.sin(2 * np.pi * 0.9 * t) + turn * amp * np.sin(2 * np.pi * 0.05 * t + 1.0)
         rate = np.gradient(yaw, 1.0 / RATE) + 0.02 * rng.standard_normal(len(t))
         q = np.column_stack([np.cos(yaw / 2), np.zeros_like(t), np.zeros_like(t), np.sin(yaw / 2)])
         quat[s] = quat_multiply(FLIP_X, q) if s in inverted else q
@@ -71,6 +83,14 @@ def test_a_trial_that_does_not_turn_decides_nothing():
         *_turning(inverted=("foot",), still=("pelvis", "thigh", "shank", "foot")), CHAIN, RATE
     )
     assert check.inverted == () and np.all(np.isnan(check.correlation))
+
+
+def test_a_stride_oscillation_without_turns_decides_nothing():
+    """A treadmill walk: the segments only oscillate about the vertical, some against each other."""
+    check = chain_sign_check(*_turning(turn=0.0, against=("thigh",)), CHAIN, RATE)
+    assert check.inverted == () and np.all(np.isnan(check.correlation))
+    turning = chain_sign_check(*_turning(against=("thigh",)), CHAIN, RATE)  # the same walk turning
+    assert turning.inverted == () and all(turning.decides)
 
 
 def test_the_pelvis_of_two_legs_is_one_sensor():
@@ -133,7 +153,7 @@ def test_the_check_can_be_switched_off(walk):
     [("left", "pelvis", "acc"), ("right", "foot", "acc"), ("right", "thigh", "gyr")],
 )
 def test_real_walk_with_an_inverted_sign_is_refused(side, sensor, signal):
-    """The real walk turns once: its neighbours' vertical rates correlate at 0.79–0.98."""
+    """The real walk turns once: its neighbours' turning rates correlate at 0.99–1.0."""
     root = data_dir()
     assert root is not None
     trial = ll.read_xsens(root / "gait" / "rawimu", real_walk_leg_mapping(side), side=side)

@@ -12,14 +12,17 @@ What such a sensor gets wrong is *up*: its orientation filter turns the world up
 down about a horizontal axis to put the gravity it reads on +z. The sensor's rate about
 the vertical, ``ω_z = (R ω)_z``, then changes sign, while its neighbours' do not. Along
 the leg, adjacent segments turn about the vertical together (the joints rotate little
-about it, and a walk's turns carry the whole chain), so the low-passed vertical rates of
-neighbours correlate positively (measured over each whole trial: 0.79–0.98 on the real
-walk of ``gait/``, which turns once; 0.4–1.0 on the simulator's one-leg motions, rigid
-or with its real-walk artefacts), and a negated accelerometer makes its edges negative
-(−0.8 … −0.98 on the real walk). Straight simulated two-leg walks turn too little for a
-verdict: their pelvis–thigh and shank–foot correlations lie between −0.4 and +0.8
-whether or not a sign is inverted, and a correlation that weak decides nothing
-(:attr:`SignCheckParams.min_abs_correlation`). A gyro read with the opposite sign turns
+about it, and a walk's turns carry the whole chain), so their turning rates
+correlate positively: each vertical rate averaged twice over
+:attr:`SignCheckParams.turn_window_s` (longer than a stride, so the stride's oscillation
+averages out and the turns stay) correlates with its neighbour's at 0.99–1.0 over the
+real walk of ``gait/``, which turns once, and a negated sensor turns its edges to −1. An
+edge decides only where both sensors turn (:attr:`SignCheckParams.min_turn_rps`: treadmill
+walks 0.005–0.023 rad/s, walks that bend 0.065–0.14, the real walk 0.29). The rates used to
+be low-passed at 2 Hz, which kept each stride's rotation about the vertical, and that
+oscillation is no turn: its sign between neighbours is the walker's (simulated pelvis–thigh
+−0.71 … +0.79 on treadmill walks, slow walkers negative), and a slow treadmill walker was
+refused as "pelvis sign inverted". A gyro read with the opposite sign turns
 the same correlations negative too (not always beyond the threshold), so the error
 names both signals.
 
@@ -34,12 +37,19 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import butter, sosfiltfilt
+from scipy.ndimage import uniform_filter1d
 
 from lowerlimb.conventions import FloatArray, quat_rotate
 from lowerlimb.errors import InputError
 
-__all__ = ["InvertedSignError", "SignCheck", "SignCheckParams", "chain_sign_check", "vertical_rate"]
+__all__ = [
+    "InvertedSignError",
+    "SignCheck",
+    "SignCheckParams",
+    "chain_sign_check",
+    "turning_rate",
+    "vertical_rate",
+]
 
 
 @dataclass(frozen=True)
@@ -47,14 +57,15 @@ class SignCheckParams:
     """Thresholds of the sign check.
 
     Attributes:
-        lowpass_hz: low-pass cut-off of the vertical rates, Hz (a stride's turning is
-            about 1 Hz; impacts and filter noise lie above).
         min_abs_correlation: an edge decides when its correlation is at least this far
-            from zero (normal data: ≥ −0.4 on straight simulated walks with artefacts;
-            a negated sensor on the real walk: ≤ −0.79).
-        min_rms_rate_rps: both sensors of an edge must turn about the vertical at least
-            this much (RMS of the low-passed rate), rad/s; a trial without turning
-            decides nothing.
+            from zero (the real walk's turning rates: 0.99–1.0; a negated sensor turns
+            them to −0.99 … −1.0).
+        turn_window_s: the vertical rates averaged twice over this window (a triangle
+            of twice its length) keep a walk's turns and drop its strides' oscillation
+            (a stride lasts at most 2.5 s), s.
+        min_turn_rps: both sensors of an edge must turn at least this much at the pace
+            of turns (SD of the averaged rate, rad/s): a trial that only oscillates about
+            the vertical, as on a treadmill, decides nothing.
         min_abs_axial: an edge's axial-acceleration correlation
             (:mod:`lowerlimb.calibration.axial_sign`) decides when at least this far from
             zero (where the gyros fix the axes: rigid simulated knees +0.89 … +1.0, the real
@@ -62,9 +73,9 @@ class SignCheckParams:
             real-walk artefacts −0.14 … +0.78, so mostly no verdict).
     """
 
-    lowpass_hz: float = 2.0
     min_abs_correlation: float = 0.6
-    min_rms_rate_rps: float = 0.05
+    turn_window_s: float = 2.5
+    min_turn_rps: float = 0.03
     min_abs_axial: float = 0.5
 
 
@@ -74,7 +85,7 @@ class SignCheck:
 
     Attributes:
         edges: ``(sensor, sensor)`` neighbour pairs, proximal first.
-        correlation: (E,) correlation of each pair's low-passed vertical rates, NaN when
+        correlation: (E,) correlation of each pair's turning rates (:func:`turning_rate`), NaN when
             a sensor barely turns about the vertical.
         axial: (E,) correlation of each pair's accelerations along their joint's axis
             (NaN: not measured, or the gyros left the axes' direction open).
@@ -154,11 +165,24 @@ def vertical_rate(quat_wxyz: FloatArray, gyr: FloatArray) -> FloatArray:
     return np.asarray(quat_rotate(quat_wxyz, gyr)[:, 2], dtype=float)
 
 
+def turning_rate(rate: FloatArray, rate_hz: float, window_s: float) -> FloatArray:
+    """A vertical rate (N,) averaged twice over ``window_s``, rad/s: its turns, without its strides.
+
+    The two moving averages (a triangular window of ``2 window_s``) keep turns, which last
+    longer than a stride, and drop a stride's oscillation; the ends, where the average runs
+    short, are left out (kept when the trial is shorter than four windows).
+    """
+    n = max(1, int(round(window_s * rate_hz)))
+    x = np.asarray(rate, dtype=float)
+    slow = uniform_filter1d(uniform_filter1d(x, n, mode="nearest"), n, mode="nearest")
+    return slow[2 * n : -2 * n] if slow.size > 4 * n else slow
+
+
 def _edge_correlation(a: FloatArray, b: FloatArray, p: SignCheckParams) -> float:
-    """Correlation of two low-passed vertical rates; NaN when either barely turns."""
-    if min(np.sqrt(np.mean(a**2)), np.sqrt(np.mean(b**2))) < p.min_rms_rate_rps:
-        return float("nan")
+    """Correlation of two sensors' turning rates; NaN when either barely turns."""
     a, b = a - a.mean(), b - b.mean()
+    if min(float(np.std(a)), float(np.std(b))) < p.min_turn_rps:
+        return float("nan")
     den = float(np.sqrt(np.sum(a * a) * np.sum(b * b)))
     return float(np.sum(a * b) / den) if den > 0 else float("nan")
 
@@ -237,15 +261,13 @@ def chain_sign_check(
         The verdict (nothing inverted when no edge decides).
     """
     p = params or SignCheckParams()
-    sos = butter(2, min(p.lowpass_hz, 0.45 * rate_hz), fs=rate_hz, output="sos")
     names = list(dict.fromkeys(s for e in edges for s in e))
     n = min(len(quat_wxyz[s]) for s in names)
     ra = np.asarray([(axial or {}).get((a, b), np.nan) for a, b in edges], dtype=np.float64)
-    if n <= 27:  # too short to filter (sosfiltfilt's padding)
-        r = np.full(len(edges), np.nan, dtype=np.float64)
-    else:
-        v = {s: sosfiltfilt(sos, vertical_rate(quat_wxyz[s][:n], gyr[s][:n])) for s in names}
-        r = np.asarray([_edge_correlation(v[a], v[b], p) for a, b in edges], dtype=np.float64)
+    v = {
+        s: turning_rate(vertical_rate(quat_wxyz[s][:n], gyr[s][:n]), rate_hz, p.turn_window_s) for s in names
+    }
+    r = np.asarray([_edge_correlation(v[a], v[b], p) for a, b in edges], dtype=np.float64)
     votes = [_edge_vote(x, y, p) for x, y in zip(r, ra, strict=True)]
     sign = [v for v, _ in votes]
     inverted, ambiguous = _fewest_inverted(names, edges, sign)
