@@ -27,7 +27,6 @@ Usage: ``python benchmarks/treadmill.py [--seeds …] [--duration S] [--pace nor
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -37,6 +36,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import gait as G  # noqa: E402
+from _results import write_results  # noqa: E402
 
 from lowerlimb.simulation import Artefacts  # noqa: E402
 from lowerlimb.simulation.footsteps import PACES  # noqa: E402
@@ -185,10 +185,7 @@ def main() -> None:
     }
     name = "treadmill" + ("" if args.pace == "normal" else f"_{args.pace}")
     name += "_artefacts" if args.artefacts == "real" else ""
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / f"{name}.json").write_text(json.dumps(res, indent=1, default=float) + "\n")
-    (args.out / f"{name}.md").write_text(markdown(res))
-    print(markdown(res))
+    write_results(args.out, name, res, markdown(res))
 
 
 if __name__ == "__main__":
