@@ -32,8 +32,6 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import gait as G  # noqa: E402
 from _results import write_results  # noqa: E402
@@ -65,34 +63,18 @@ def run_variant(
     )
 
 
-def _finite(x: list[float]) -> np.ndarray:
-    a = np.asarray(x, dtype=float)
-    return a[np.isfinite(a)]
-
-
-def _abs_median(x: list[float]) -> float:
-    a = _finite(x)
-    return float(np.median(np.abs(a))) if a.size else float("nan")
-
-
-def _abs_max(x: list[float]) -> float:
-    a = _finite(x)
-    return float(np.max(np.abs(a))) if a.size else float("nan")
-
-
 def trial_row(tr: dict[str, Any]) -> dict[str, Any]:
     """The per-trial figures of the table."""
     lengths = [abs(e) for k, v in tr["joint_err"].items() if k in G.LENGTH_LABELS for e in v]
+    width = G._stats(tr["step_width_mm"])
     return {
         "seed": tr["seed"],
-        "ic_ms": _abs_median(tr["left_initial_contact_ms"] + tr["right_initial_contact_ms"]),
-        "to_ms": _abs_median(tr["left_toe_off_ms"] + tr["right_toe_off_ms"]),
-        "stride_pct": _abs_median(tr["stride_length_pct"]),
-        "width_median_mm": _abs_median(tr["step_width_mm"]),
-        "width_worst_mm": _abs_max(tr["step_width_mm"]),
-        "width_bias_mm": float(np.mean(_finite(tr["step_width_mm"])))
-        if _finite(tr["step_width_mm"]).size
-        else float("nan"),
+        "ic_ms": G._stats(tr["left_initial_contact_ms"] + tr["right_initial_contact_ms"])["median_abs"],
+        "to_ms": G._stats(tr["left_toe_off_ms"] + tr["right_toe_off_ms"])["median_abs"],
+        "stride_pct": G._stats(tr["stride_length_pct"])["median_abs"],
+        "width_median_mm": width["median_abs"],
+        "width_worst_mm": width["worst_abs"],
+        "width_bias_mm": width["bias"],
         "length_worst_mm": max(lengths) if lengths else float("nan"),
         "angle_worst_deg": max(max(v.values()) for v in tr["angle_rmse_deg"].values()),
         "heading_spread": tr["heading_spread"],
