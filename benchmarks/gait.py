@@ -57,6 +57,7 @@ from lowerlimb.simulation import Artefacts, simulate_bilateral
 from lowerlimb.simulation.footsteps import PACE_RANGES, PACES
 from lowerlimb.simulation.pauses import PauseParams
 from lowerlimb.simulation.treadmill import TreadmillParams
+from lowerlimb.simulation.turns import TurnParams
 
 ROOT = Path(__file__).resolve().parents[1]
 MATCH_S = 0.2
@@ -182,6 +183,7 @@ def score_simulation(
     transform: Callable[[Any], Any] | None = None,
     stops: PauseParams | None = None,
     treadmill: TreadmillParams | None = None,
+    turns: TurnParams | None = None,
 ) -> dict[str, Any]:
     """One simulated walk through the two-leg pipeline, scored against its truth.
 
@@ -193,12 +195,14 @@ def score_simulation(
     ``knee_rotation`` the knees' internal rotation per rad of flexion (0: hinges);
     ``transform`` maps the simulated trial to the one processed (``None``: as simulated);
     ``stops`` makes the walker stop and stand (``None``: walks on); ``treadmill`` puts the
-    walk on a treadmill (``None``: overground).
+    walk on a treadmill (``None``: overground); ``turns`` makes it straight passes with turns
+    about between them (``None``: a gently bending path).
     """
     kw: dict[str, Any] = {"lab_field": None} if uniform_field else {}
     kw["knee_rotation_per_flexion"] = knee_rotation
     kw["stops"] = stops
     kw["treadmill"] = treadmill
+    kw["turns"] = turns
     sim = simulate_bilateral(duration_s, seed, artefacts=artefacts, rate_hz=rate_hz, pace=pace, **kw)
     trial = sim.trial if transform is None else transform(sim.trial)
     t0 = time.perf_counter()
@@ -235,12 +239,16 @@ def score_simulation(
             errs, missed = _event_errors(np.asarray(true_s), np.asarray(est))
             out[f"{side}_{kind}_ms"] = errs
             out[f"{side}_{kind}_missed"] = missed
-    length, width, step = [], [], []
+    length, width, step, turning, start = [], [], [], [], []
     for st, c in matched_strides(sim, res):
+        start.append(float(st.start_s))
         length.append(100.0 * (c.stride_length_m - st.stride_length_m) / st.stride_length_m)
         width.append(1000.0 * (c.step_width_m - st.step_width_m))
         step.append(1000.0 * (c.step_length_m - st.step_length_m))
+        turning.append(bool(c.turning or c.step_turning))
     out |= {"stride_length_pct": length, "step_width_mm": width, "step_length_mm": step}
+    out["stride_turning"] = turning
+    out["stride_start_s"] = start
     keep = sim.trial.time_s > SKIP_S
     err = np.rad2deg(res.angles_rad - sim.angles_rad)[keep]
     rmse = np.sqrt(np.mean(err**2, axis=0))

@@ -73,6 +73,7 @@ from .simulator import (
 from .tissue_motion import TissueMotion
 from .toe_rocker import PreSwingParams
 from .treadmill import TreadmillParams, belt_travel, lab_positions, lab_specific_force, motor_dipole, straight
+from .turns import TurnParams, hip_turn_rotation, turn_starts, turnaround_path
 
 __all__ = ["BilateralSimulation", "simulate_bilateral"]
 
@@ -455,6 +456,7 @@ def simulate_bilateral(
     knee_rotation_per_flexion: float = 0.0,
     stops: PauseParams | None = None,
     treadmill: TreadmillParams | None = None,
+    turns: TurnParams | None = None,
 ) -> BilateralSimulation:
     """Simulate a seven-IMU walk (pelvis, both thighs, shanks and feet) with known truth.
 
@@ -506,6 +508,10 @@ def simulate_bilateral(
             spot of the lab (:mod:`lowerlimb.simulation.treadmill`: the lab-frame specific
             force while the belt speeds up, the lab's field where the sensors are in the lab
             and the drive motor's); the truth stays in the belt's frame. ``None``: overground.
+        turns: The walker walks straight passes and turns about 180° between them, each
+            foot pivoting while flat and the hips rotating through the turn
+            (:mod:`lowerlimb.simulation.turns`; each turn's direction from its own random
+            stream). ``None``: the gently bending path.
 
     Returns:
         A :class:`BilateralSimulation`.
@@ -513,7 +519,7 @@ def simulate_bilateral(
     Raises:
         InputError: too short a trial, a non-positive rate, an unknown pace, a negative or
             non-finite limb vibration, a non-finite or implausible knee rotation, bad stops, a
-            bad treadmill, or stops on a treadmill.
+            bad treadmill, stops on a treadmill, bad turns, or turns with stops or a treadmill.
     """
     t_start = time.perf_counter()
     if rate_hz <= 0 or duration_s < still_s + 4.0:
@@ -539,6 +545,10 @@ def simulate_bilateral(
         treadmill.validate()
         if stops is not None and stops.count:
             raise InputError("a simulated treadmill walk has no stops; drop stops or treadmill")
+    if turns is not None:
+        turns.validate()
+        if treadmill is not None or (stops is not None and stops.count):
+            raise InputError("a simulated walk with turns has no stops and no treadmill; drop one of them")
     noise = ImuNoise() if noise is None else noise
     rng = np.random.default_rng(seed)
     art = artefacts if artefacts is not None and artefacts.active else None
@@ -547,16 +557,19 @@ def simulate_bilateral(
     d = draw_walk(rng, pace)
     if pace_changes:
         d = _pace_changes(d, np.random.default_rng([seed, 11]))
-    if treadmill is not None:
+    if treadmill is not None or turns is not None:
         d = straight(d)
     t = np.arange(int(round(duration_s * rate_hz))) / rate_hz
     t0 = still_s
     z_stand, stand = _standing(legs, d.heading0_rad)
+    pivot = turns is not None and turns.pivot
+    turn_signs = np.random.default_rng([seed, 23]).choice([-1.0, 1.0], size=int(duration_s) + 3)
 
     def plan(tau: FloatArray) -> tuple[tuple[FloatArray, FloatArray, FloatArray], dict[str, FootPlan]]:
-        path = pelvis_path(tau, d, t0)
+        path = pelvis_path(tau, d, t0) if turns is None else turnaround_path(tau, d, t0, turns, turn_signs)
         return path, {
-            s: plan_feet(s, d, tau, t0, (path[0], path[1]), stand[s], _foot_points(legs[s])) for s in SIDES
+            s: plan_feet(s, d, tau, t0, (path[0], path[1]), stand[s], _foot_points(legs[s]), pivot=pivot)
+            for s in SIDES
         }
 
     path, feet = plan(t)
@@ -573,6 +586,9 @@ def simulate_bilateral(
     for s in SIDES:
         u = (tau - first_contacts(d, t0)[s]) / d.stride_time_s
         hip_rot = np.deg2rad(d.hip_rotation_deg) * np.sin(2 * np.pi * u - 0.8) * ramp
+        if turns is not None:
+            toe_out = d.toe_out_rad[SIDES.index(s)]
+            hip_rot = hip_rot + hip_turn_rotation(feet[s].rotation, path[0], s, toe_out, ramp)
         angles = solve_leg(
             legs[s],
             root,
@@ -607,6 +623,13 @@ def simulate_bilateral(
     truth = _truth(models, d, gt, bias, seed, rate_hz, duration_s, height_m, mass_kg, noise, feet)
     if treadmill is not None:
         truth["treadmill"] = asdict(treadmill)
+    if turns is not None:
+        starts = turn_starts(turns, t0, float(tau[-1]))
+        truth["turns"] = {
+            **asdict(turns),
+            "start_s": [float(np.interp(x, tau, t)) for x in starts],
+            "direction": ["left" if g > 0 else "right" for g in turn_signs[: starts.size]],
+        }
     art_truth = None
     if art is not None and errors is not None and tissue is not None:
         base_pl = {s: sig[s].base_pl for s in SIDES}

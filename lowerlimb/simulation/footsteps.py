@@ -323,7 +323,12 @@ class _FootGeometry:
 
 @dataclass(frozen=True)
 class _Stance:
-    """One stance: footprint and event times (``ic`` is None for the standing start)."""
+    """One stance: footprint and event times (``ic`` is None for the standing start).
+
+    ``pivot`` (rad) turns the flat foot about the vertical through the middle of its sole
+    between foot-flat and heel-off (:mod:`lowerlimb.simulation.turns`); ``heading`` is the
+    foot's before it.
+    """
 
     ankle: FloatArray
     heading: float
@@ -331,6 +336,7 @@ class _Stance:
     foot_flat: float
     heel_off: float
     toe_off: float
+    pivot: float = 0.0
 
 
 def _stance_pose(
@@ -342,7 +348,13 @@ def _stance_pose(
     """
     R_flat = rot_z(st.heading) @ R_ENU_SEGMENT0
     heel_w = st.ankle + R_flat @ foot.heel
-    toe_w = st.ankle + R_flat @ foot.toe
+    # the pivot: about the vertical through the sole's middle, the foot's pose after it
+    centre = 0.5 * (heel_w + st.ankle + R_flat @ foot.mtp)
+    centre[2] = 0.0
+    ankle_end = st.ankle if st.pivot == 0.0 else centre + rot_z(st.pivot) @ (st.ankle - centre)
+    heading_end = st.heading + st.pivot
+    R_end = rot_z(heading_end) @ R_ENU_SEGMENT0
+    toe_w = ankle_end + R_end @ foot.toe
     standing = st.ic is None
     # largest plantarflexion after toe-off, and the pitch scale that puts the draw's
     # to_pitch at toe-off
@@ -361,12 +373,15 @@ def _stance_pose(
             p = d.ic_pitch_rad * (1.0 - v) ** 3 * (1.0 + 3.0 * v)
             return heel_w - R_flat @ rot_z(p) @ foot.heel, p, st.heading, 0.0
         if t <= st.heel_off:
-            return st.ankle.copy(), 0.0, st.heading, 0.0
+            if st.pivot == 0.0:
+                return st.ankle.copy(), 0.0, st.heading, 0.0
+            turned = st.pivot * float(smoothstep(np.array(t), st.foot_flat, st.heel_off - st.foot_flat))
+            return centre + rot_z(turned) @ (st.ankle - centre), 0.0, st.heading + turned, 0.0
         p = -pitch_max * push_off_shape((t - st.heel_off) / (t_max - st.heel_off), standing)
         phi = -toe_tilt * toe_roll_shape((t - st.toe_off + roll) / roll, pre.toe_roll_power)  # toe pitch
         # the toe tip stays put; the MTP joint turns about it, the rearfoot about the MTP joint
-        mtp_w = toe_w + R_flat @ rot_z(phi) @ (foot.mtp - foot.toe)
-        return mtp_w - R_flat @ rot_z(p) @ foot.mtp, p, st.heading, phi - p
+        mtp_w = toe_w + R_end @ rot_z(phi) @ (foot.mtp - foot.toe)
+        return mtp_w - R_end @ rot_z(p) @ foot.mtp, p, heading_end, phi - p
 
     return pose
 
@@ -416,9 +431,19 @@ def first_contacts(d: WalkDraw, t0: float) -> dict[str, float]:
 
 
 def _stances(
-    side: str, d: WalkDraw, t: FloatArray, t0: float, path: tuple[FloatArray, FloatArray], stand: FloatArray
+    side: str,
+    d: WalkDraw,
+    t: FloatArray,
+    t0: float,
+    path: tuple[FloatArray, FloatArray],
+    stand: FloatArray,
+    pivot: bool = False,
 ) -> list[_Stance]:
-    """The stances of one foot: the standing start, then one per IC until the trial ends."""
+    """The stances of one foot: the standing start, then one per IC until the trial ends.
+
+    With ``pivot`` each foot turns while flat by what the path turns from foot-flat to
+    heel-off, starting from the path's heading at foot-flat.
+    """
     T, beta = d.stride_time_s, d.stance_fraction
     heading, xy = path
     lat = 1.0 if side == "left" else -1.0
@@ -440,16 +465,12 @@ def _stances(
         left_dir = np.array([-np.sin(psi), np.cos(psi)])
         width = d.step_width_m * (1.0 + d.width_change * np.sin(2 * np.pi * d.pace_hz * (t_mid - t0) + 1.0))
         ankle = np.array([*(c + lat * 0.5 * width * left_dir), stand[2]])
-        out.append(
-            _Stance(
-                ankle,
-                psi + lat * toe_out,
-                ic,
-                ic + d.foot_flat_fraction * T,
-                ic + d.heel_off_fraction * T,
-                ic + beta * T,
-            )
-        )
+        flat, heel_off = ic + d.foot_flat_fraction * T, ic + d.heel_off_fraction * T
+        turn = 0.0
+        if pivot:
+            psi = float(np.interp(flat, t, heading))
+            turn = float(np.interp(heel_off, t, heading)) - psi
+        out.append(_Stance(ankle, psi + lat * toe_out, ic, flat, heel_off, ic + beta * T, turn))
         ic += T
     return out
 
@@ -627,6 +648,7 @@ def plan_feet(
     stand_ankle: FloatArray,
     foot: tuple[FloatArray, FloatArray, FloatArray],
     pre: PreSwingParams | None = None,
+    pivot: bool = False,
 ) -> FootPlan:
     """One foot's planned poses and events (see the module docstring, steps 2–4).
 
@@ -639,10 +661,11 @@ def plan_feet(
         stand_ankle: (3,) the ankle centre while standing, ENU, m.
         foot: Heel, MTP joint centre and toe tip (3,) in the foot segment frame, m.
         pre: Push-off geometry and timing (defaults: :class:`PreSwingParams`).
+        pivot: Each foot in stance pivots while flat with the path (:mod:`.turns`).
     """
     pre = PreSwingParams() if pre is None else pre
     geom = _FootGeometry(*(np.asarray(p, float) for p in foot))
-    stances = _stances(side, d, t, t0, path, stand_ankle)
+    stances = _stances(side, d, t, t0, path, stand_ankle, pivot)
     y = _foot_samples(stances, d, geom, t, pre)
     R = rot_z(y[:, 4]) @ R_ENU_SEGMENT0 @ rot_z(y[:, 3])
     walking = [st for st in stances if st.ic is not None]
