@@ -10,7 +10,7 @@ from test_gait_trajectory import RATE, W, _both
 
 from lowerlimb.errors import InputError
 from lowerlimb.gait import FootAnchor, GaitParams, compute_gait_parameters
-from lowerlimb.gait.drift import ChainSteps, fit_track_drift
+from lowerlimb.gait.drift import ChainSteps, fit_track_drift, unaided_gaps
 
 STEP_S = 0.55  # one right contact per stride, s
 
@@ -121,6 +121,68 @@ def test_too_few_steps_or_switched_off_leave_the_tracks():
     assert fit_track_drift(t, nan, u, 0.5, GaitParams()) is None
 
 
+def _passes(duration_s: float, pass_s: float, rng: np.random.Generator):
+    """Right contacts on straight passes of ``pass_s`` with a turn about between them (no contact in it)."""
+    t, _ = _walk(duration_s, "straight", rng)
+    lap = np.floor(t / pass_s)
+    t = t[(t - lap * pass_s) > 1.5]  # the turn: 1.5 s without a contact at the start of each pass
+    psi = np.pi * (np.floor(t / pass_s) % 2) + np.deg2rad(2.0) * rng.standard_normal(t.size)
+    turns = pass_s * np.arange(1, duration_s // pass_s + 1)
+    gaps = np.column_stack([turns - 0.2, turns + 1.7])  # the feet's last and first stance around it
+    return t, np.column_stack([np.cos(psi), np.sin(psi)]), gaps
+
+
+def _jumps(pass_s: float, rng: np.random.Generator):
+    """A track that jumps by a few centimetres at every turn (integrated through it unaided)."""
+    steps = 0.06 * rng.standard_normal((200, 2))
+    steps[0] = 0.0  # the first pass stands where the anchor put it
+    return lambda x: np.cumsum(steps, axis=0)[np.floor(np.asarray(x) / pass_s).astype(int)]
+
+
+def test_a_track_that_jumps_at_each_turn_is_followed_across_the_breaks():
+    rng = np.random.default_rng(8)
+    t, u, gaps = _passes(90.0, 8.0, rng)
+    jumps = _jumps(8.0, rng)
+    o = _offsets(t, u, jumps, np.array([0.02, 0.1]), 0.02, rng)
+    broken = fit_track_drift(t, o, u, 0.5, GaitParams(), breaks_s=gaps)
+    smooth = fit_track_drift(t, o, u, 0.5, GaitParams())
+    assert broken is not None and smooth is not None
+    # each pass has one walking direction, so a free jump also takes that pass's share of the
+    # chain's bias: what must hold is the error in the walking frame, the same on every pass
+    # (the step width's error does not change at the turns)
+    lateral = np.column_stack([-u[:, 1], u[:, 0]])
+
+    def walking_frame_spread(f):
+        e = f.at(t) - jumps(t)
+        return max(np.std(np.sum(e * u, axis=1)), np.std(np.sum(e * lateral, axis=1)))
+
+    assert walking_frame_spread(broken) < 0.015
+    assert walking_frame_spread(smooth) > 2.0 * walking_frame_spread(broken)
+    # knots at both ends of every gap inside the fitted steps
+    inside = gaps[(gaps[:, 0] > 0.5) & (gaps[:, 1] < t[-1])]
+    assert set(np.round(inside.ravel(), 6)) <= set(np.round(broken.knot_time_s, 6))
+
+
+def test_without_gaps_the_fit_is_the_regular_grids():
+    rng = np.random.default_rng(9)
+    t, u = _walk(120.0, "bend", rng)
+    o = _offsets(t, u, _drift, np.array([0.05, 0.2]), 0.03, rng)
+    plain = fit_track_drift(t, o, u, 0.5, GaitParams())
+    none = fit_track_drift(t, o, u, 0.5, GaitParams(), breaks_s=np.zeros((0, 2)))
+    assert plain is not None and none is not None
+    np.testing.assert_allclose(plain.knot_offset_m, none.knot_offset_m, atol=1e-12)
+    np.testing.assert_allclose(plain.knot_time_s, 0.5 + 30.0 * np.arange(plain.knot_time_s.size))
+
+
+def test_unaided_gaps_are_the_long_ones_of_either_foot():
+    left = np.array([[0.0, 1.0], [1.6, 1.9], [4.0, 4.3]])  # 0.6 s swing, then 2.1 s unaided
+    right = np.array([[0.0, 1.3], [2.0, 2.2], [2.8, 3.0]])
+    gaps = unaided_gaps([left, right], GaitParams())
+    np.testing.assert_allclose(gaps, [[1.9, 4.0]])
+    assert unaided_gaps([left, right], GaitParams(chain_drift_gap_s=None)).shape == (0, 2)
+    assert unaided_gaps([np.zeros((0, 2))], GaitParams()).shape == (0, 2)
+
+
 @pytest.mark.parametrize("side", ["right", "left"])
 def test_step_geometry_survives_a_drifting_track(side):
     """One foot's track drifts 2 cm/s forward and 1 cm/s sideways; an exact chain at that
@@ -192,6 +254,8 @@ def test_step_geometry_survives_a_drifting_track(side):
         ("chain_drift_min_steps", 0),
         ("chain_drift_iterations", 0),
         ("chain_stance_margin_s", -0.1),
+        ("chain_drift_gap_s", 0.0),
+        ("chain_drift_break_sd_m", 0.0),
     ],
 )
 def test_impossible_drift_settings_are_refused_with_their_name(field, value):

@@ -34,6 +34,17 @@ steady or changing pace, the median of their medians from 9.8 to 9.2 mm and the 
 walk's worst from 129 to 57 mm (one 5-minute walk loses 2 mm: 6.6 → 8.7).
 Large residuals (turning steps, a stumble) are down-weighted by Huber weights. The moving
 track then moves by ``F(t)``.
+
+**Breaks.** A foot's track jumps where it goes unaided: in a turn about, a foot pivots on the
+floor at up to 3 rad/s, no stationary period is found, and its track is integrated through
+the turn with no zero-velocity update. On simulated walks of 6 s passes with turns between
+them (``benchmarks/results/turns.md``) the step width then changed pass by pass (22.5 / 73 mm
+median / worst on the straight passes against 9.9 / 31 on bending walks), which knots 30 s
+apart cannot follow. So every gap between a foot's stationary periods longer than
+:attr:`GaitParams.chain_drift_gap_s` gets a knot at each end, and the drift's change across
+it the prior SD :attr:`GaitParams.chain_drift_break_sd_m` (nearly free). The other knots keep
+their random-walk prior, the SD scaled by ``sqrt(Δt / chain_drift_knot_s)`` so that a grid
+without breaks is the one above.
 """
 
 from __future__ import annotations
@@ -46,7 +57,7 @@ from lowerlimb.conventions import FloatArray
 from lowerlimb.gait.contacts import Contacts, heading_change_rad
 from lowerlimb.gait.params import GaitParams
 
-__all__ = ["ChainSteps", "TrackDrift", "fit_track_drift", "heading_spread", "track_drift"]
+__all__ = ["ChainSteps", "TrackDrift", "fit_track_drift", "heading_spread", "track_drift", "unaided_gaps"]
 
 _MIN_SD_M = 1e-4  # floor of the residual scale (an exact chain in tests), m
 
@@ -135,6 +146,7 @@ def fit_track_drift(
     walking_dir: FloatArray,
     anchor_time_s: float,
     params: GaitParams,
+    breaks_s: FloatArray | None = None,
 ) -> TrackDrift | None:
     """Fit ``o_i = R(ψ_i) b + F(t_i)`` (module docstring) by iteratively reweighted least squares.
 
@@ -144,7 +156,9 @@ def fit_track_drift(
         walking_dir: (M, 2) unit walking directions of the reference strides, same frame.
         anchor_time_s: where the drift is pinned to zero, s.
         params: ``chain_drift_knot_s``, ``chain_drift_sd_m``, ``chain_drift_min_steps``,
-            ``chain_drift_huber``.
+            ``chain_drift_huber``, ``chain_drift_break_sd_m``.
+        breaks_s: (B, 2) start and end of the gaps across which the drift may jump
+            (module docstring, "Breaks"), s from sample 0; ``None``: none.
 
     Returns:
         The fit, or ``None`` when it is switched off or there are fewer than
@@ -156,11 +170,15 @@ def fit_track_drift(
     if knot_s is None or np.count_nonzero(keep) < params.chain_drift_min_steps:
         return None
     t, o, u = time_s[keep], offset_m[keep], walking_dir[keep]
-    n_knots = max(2, int(np.ceil((t[-1] - anchor_time_s) / knot_s)) + 1)
-    knots = np.asarray(anchor_time_s + knot_s * np.arange(n_knots), dtype=float)
+    n_grid = max(2, int(np.ceil((t[-1] - anchor_time_s) / knot_s)) + 1)
+    knots = np.asarray(anchor_time_s + knot_s * np.arange(n_grid), dtype=float)
+    gaps = np.zeros((0, 2)) if breaks_s is None else np.asarray(breaks_s, dtype=float).reshape(-1, 2)
+    gaps = gaps[(gaps[:, 0] > anchor_time_s) & (gaps[:, 1] < t[-1])]
+    knots = np.unique(np.concatenate([knots, gaps.ravel()]))
+    n_knots = knots.size
     anchor_sd = params.chain_anchor_sd_m
     first = None if anchor_sd is None else params.chain_drift_sd_m / anchor_sd
-    M, prior = _design(t, u, knots, first)
+    M, prior = _design(t, u, knots, first, _interval_scale(knots, gaps, params))
     sol, sd = _irls(M, np.concatenate([o[:, 0], o[:, 1]]), prior, params)
     k = (M.shape[1] - 2) // 2
     F = np.zeros((n_knots, 2))
@@ -177,14 +195,29 @@ def heading_spread(walking_dir: FloatArray) -> float:
     return float(np.sqrt(max(0.0, 1.0 - min(r, 1.0) ** 2)))
 
 
+def _interval_scale(knots: FloatArray, gaps: FloatArray, params: GaitParams) -> FloatArray:
+    """(K−1,) prior SD of the drift's change over each knot interval, in ``chain_drift_sd_m``.
+
+    ``sqrt(Δt / chain_drift_knot_s)`` (a random walk: 1 on the regular grid), or
+    ``chain_drift_break_sd_m / chain_drift_sd_m`` for an interval inside a gap.
+    """
+    knot_s = float(params.chain_drift_knot_s or 1.0)
+    scale = np.sqrt(np.maximum(np.diff(knots), 1e-9) / knot_s)
+    mid = 0.5 * (knots[1:] + knots[:-1])
+    inside = np.any((mid[:, None] > gaps[None, :, 0]) & (mid[:, None] < gaps[None, :, 1]), axis=1)
+    scale[inside] = params.chain_drift_break_sd_m / params.chain_drift_sd_m
+    return np.asarray(scale, dtype=float)
+
+
 def _design(
-    t: FloatArray, u: FloatArray, knots: FloatArray, first: float | None
+    t: FloatArray, u: FloatArray, knots: FloatArray, first: float | None, scale: FloatArray | None = None
 ) -> tuple[FloatArray, FloatArray]:
     """The model's matrix (2M, 2 + 2k) and the prior's rows (2k, same columns).
 
     Unknowns: ``b`` (forward, left), then ``F_x`` and ``F_y`` at the k knots: every knot, or
     (``first`` ``None``) those after the anchor's, pinned to zero. Rows: the x components of
-    the M steps, then their y components. The prior's rows are the knot-to-knot changes; the
+    the M steps, then their y components. The prior's rows are the knot-to-knot changes, each
+    divided by its interval's ``scale`` (:func:`_interval_scale`; ``None``: all 1); the
     first is the anchor knot's own value scaled by ``first`` (``chain_drift_sd_m`` over
     ``chain_anchor_sd_m``), or, pinned, the change from zero.
     """
@@ -196,6 +229,10 @@ def _design(
     M[:m, 2 : 2 + k] = B
     M[m:, 2 + k :] = B
     D = np.eye(k) - np.eye(k, k=-1)  # knot-to-knot changes, the first from the pinned zero
+    if scale is not None:
+        # pinned: row j is the change over interval j; free: row 0 is the anchor, row j ≥ 1 interval j − 1
+        lead = 0 if first is None else 1
+        D[lead:] /= scale[: k - lead, None]
     if first is not None:
         D[0, 0] = first  # the anchor knot itself: N(0, chain_anchor_sd_m²)
     prior = np.zeros((2 * k, 2 + 2 * k))
@@ -235,7 +272,12 @@ def _robust_sd(r: FloatArray) -> float:
 
 
 def track_drift(
-    cl: Contacts, cr: Contacts, chain: ChainSteps, anchor_time_s: float, p: GaitParams
+    cl: Contacts,
+    cr: Contacts,
+    chain: ChainSteps,
+    anchor_time_s: float,
+    p: GaitParams,
+    breaks_s: FloatArray | None = None,
 ) -> TrackDrift | None:
     """The moving track's drift from the chain steps at its contacts on straight reference strides.
 
@@ -245,6 +287,7 @@ def track_drift(
         chain: the chain's moving-minus-reference ankle vectors at the moving foot's contacts.
         anchor_time_s: where the drift is pinned to zero, s from sample 0.
         p: ``turn_heading_deg`` and the ``chain_drift_*`` thresholds.
+        breaks_s: (B, 2) gaps across which the drift may jump (:func:`unaided_gaps`), s.
 
     Returns:
         :func:`fit_track_drift` of the chain-minus-track vectors, or ``None``.
@@ -267,4 +310,22 @@ def track_drift(
         on_chain = fwd * u + lft * np.array([-u[1], u[0]])
         rows.append((t, *(on_chain - (cr.position_m[k, :2] - cl.position_m[j, :2])), *u))
     r = np.asarray(rows, dtype=float).reshape(-1, 5)
-    return fit_track_drift(r[:, 0], r[:, 1:3], r[:, 3:5], anchor_time_s, p)
+    return fit_track_drift(r[:, 0], r[:, 1:3], r[:, 3:5], anchor_time_s, p, breaks_s)
+
+
+def unaided_gaps(stationary_s: list[FloatArray], p: GaitParams) -> FloatArray:
+    """(B, 2) gaps between a foot's stationary periods longer than ``chain_drift_gap_s``, s.
+
+    Args:
+        stationary_s: each foot's (K, 2) stationary periods (start, end), s from sample 0.
+        p: ``chain_drift_gap_s`` (``None``: no gaps).
+    """
+    if p.chain_drift_gap_s is None:
+        return np.zeros((0, 2))
+    out = []
+    for iv in stationary_s:
+        iv = np.asarray(iv, dtype=float).reshape(-1, 2)
+        starts, ends = iv[1:, 0], iv[:-1, 1]
+        long = starts - ends > p.chain_drift_gap_s
+        out += list(zip(ends[long], starts[long], strict=True))
+    return np.asarray(out, dtype=float).reshape(-1, 2)

@@ -113,6 +113,12 @@ class GaitParams:
             walking straight the prior keeps the anchor (:mod:`lowerlimb.gait.drift`).
             ``None``: the drift is pinned to zero at the anchor.
         chain_drift_min_steps: Fewer chain steps than this leave the tracks as anchored.
+        chain_drift_gap_s: A foot integrated this long without a stationary period (its
+            track unaided by a zero-velocity update: a turn about on a pivoting foot, a
+            stumble) breaks the drift: knots at both ends of the gap, the drift's change
+            across it almost free (:attr:`chain_drift_break_sd_m`), s; ``None``: no breaks.
+            Walking, a foot's gaps are its swings, 0.4–0.9 s.
+        chain_drift_break_sd_m: Prior SD of the drift's change across such a gap, m.
         straight_heading_spread: A drift fit whose steps' walking directions spread less
             than this (:attr:`~lowerlimb.gait.drift.TrackDrift.heading_spread`) cannot tell
             the chain's bias from the anchor's error: the walk counts as straight and step
@@ -161,6 +167,8 @@ class GaitParams:
     chain_drift_sd_m: float = 0.05
     chain_anchor_sd_m: float | None = 0.02
     chain_drift_min_steps: int = 20
+    chain_drift_gap_s: float | None = 1.5
+    chain_drift_break_sd_m: float = 1.0
     straight_heading_spread: float = 0.1
     chain_drift_huber: float = 2.5
     chain_drift_iterations: int = 5
@@ -175,7 +183,10 @@ class GaitParams:
         knot = self.chain_drift_knot_s
         if knot is not None and not knot > 0:
             raise InputError(f"chain_drift_knot_s must be > 0 s or None (no drift removal), got {knot}")
-        for name in ("chain_drift_sd_m", "chain_drift_huber"):
+        gap = self.chain_drift_gap_s
+        if gap is not None and not gap > 0:
+            raise InputError(f"chain_drift_gap_s must be > 0 s or None (no breaks), got {gap}")
+        for name in ("chain_drift_sd_m", "chain_drift_huber", "chain_drift_break_sd_m"):
             if not getattr(self, name) > 0:
                 raise InputError(f"{name} must be > 0, got {getattr(self, name)}")
         anchor_sd = self.chain_anchor_sd_m

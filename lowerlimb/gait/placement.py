@@ -27,7 +27,7 @@ import numpy as np
 
 from lowerlimb.conventions import FloatArray, rot_z
 from lowerlimb.gait.contacts import Contacts, heading_change_rad, walking_direction
-from lowerlimb.gait.drift import ChainSteps, TrackDrift, track_drift
+from lowerlimb.gait.drift import ChainSteps, TrackDrift, track_drift, unaided_gaps
 from lowerlimb.gait.params import GaitParams
 from lowerlimb.gait.trajectory import FootTrajectory
 
@@ -251,7 +251,8 @@ def place_track(
     moved = replace(turned, position_m=pos + shift)
     drift = None
     if chain is not None and chain.side == moving:
-        drift = track_drift(c_ref, moved, chain, anchor.time_s, p)
+        gaps = unaided_gaps([t_ref.stationary.intervals_s(), t_mov.stationary.intervals_s()], p)
+        drift = track_drift(c_ref, moved, chain, anchor.time_s, p, gaps)
         if drift is not None:
             drift = replace(drift, moving_side=moving)
             shifted = moved.position_m.copy()
