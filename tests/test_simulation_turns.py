@@ -113,3 +113,20 @@ def test_the_pipeline_finds_events_and_angles_through_the_turns() -> None:
     err = np.rad2deg(res.angles_rad - sim.angles_rad)[walking]
     knee = np.sqrt(np.mean(err[:, [3, 12]] ** 2, axis=0))
     assert knee.max() < 2.0
+
+
+def test_the_command_line_simulates_turns_for_two_legs_only(tmp_path, capsys) -> None:
+    from lowerlimb.cli import main
+
+    out = tmp_path / "turns.csv"
+    assert main(["simulate", "--side", "both", "--duration", "16", "--turns", "--out", str(out)]) == 0
+    assert "straight passes and turns about" in capsys.readouterr().out and out.is_file()
+    for argv, says in (
+        (["--turns"], "--turns is a seven-IMU walk option; add --side both"),
+        (["--side", "both", "--turns", "--stops", "1"], "--turns walks have no --stops and no --treadmill"),
+        (["--side", "both", "--turns", "--treadmill"], "--turns walks have no --stops and no --treadmill"),
+    ):
+        assert main(["simulate", "--duration", "20", *argv, "--out", str(tmp_path / "x.csv")]) == 2
+        err = capsys.readouterr().err
+        assert says in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "x.csv").exists()

@@ -103,6 +103,12 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "where they are in the lab and the drive motor's; stride length and speed relative to the belt)",
     )
     p.add_argument(
+        "--turns",
+        action="store_true",
+        help="with --side both: walk straight passes of 6 s with a 180° turn about between them, as "
+        "on a gait lab's walkway (each stance foot pivoting on the floor while flat)",
+    )
+    p.add_argument(
         "--force", action="store_true", help="replace existing files (default: refuse to overwrite)"
     )
 
@@ -147,8 +153,9 @@ def _check_two_leg_options(args: argparse.Namespace) -> None:
 
     Raises:
         InputError: ``--side both`` with another motion, soft tissue, or too short;
-            ``--pace-changes``, ``--pace``, ``--stops`` or ``--treadmill`` without
-            ``--side both``; more stops than one per 10 s; stops on a treadmill.
+            ``--pace-changes``, ``--pace``, ``--stops``, ``--treadmill`` or ``--turns``
+            without ``--side both``; more stops than one per 10 s; stops on a treadmill;
+            turns with stops or on a treadmill.
     """
     if args.side != "both":
         two_leg_only = (
@@ -156,6 +163,7 @@ def _check_two_leg_options(args: argparse.Namespace) -> None:
             (f"--pace {args.pace}", args.pace != "normal"),
             (f"--stops {args.stops}", args.stops != 0),
             ("--treadmill", args.treadmill),
+            ("--turns", args.turns),
         )
         for flag, used in two_leg_only:
             if used:
@@ -180,6 +188,8 @@ def _check_two_leg_options(args: argparse.Namespace) -> None:
         )
     if args.treadmill and args.stops:
         raise InputError("--treadmill walks have no --stops; drop one of them")
+    if args.turns and (args.treadmill or args.stops):
+        raise InputError("--turns walks have no --stops and no --treadmill; drop one of them")
 
 
 def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
@@ -190,6 +200,7 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
     from lowerlimb.simulation.magnetic_field import LAB_FIELD
     from lowerlimb.simulation.pauses import PauseParams
     from lowerlimb.simulation.treadmill import TreadmillParams
+    from lowerlimb.simulation.turns import TurnParams
 
     noise = ImuNoise() if args.noise == "realistic" else ImuNoise.none()
     sim = simulate_bilateral(
@@ -204,6 +215,7 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
         pace=args.pace,
         stops=PauseParams(count=args.stops, pause_s=args.stop_s) if args.stops else None,
         treadmill=TreadmillParams() if args.treadmill else None,
+        turns=TurnParams() if args.turns else None,
     )
     t = sim.trial.time_s
     writers: dict[Path, Callable[[Path], None]] = {targets["--out"]: sim.trial.to_csv}
@@ -232,7 +244,8 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
         f"wrote {args.out} ({sim.trial.n_samples} samples at {args.rate:g} Hz, walk, both legs"
         f"{', real-walk artefacts' if sim.artefacts is not None else ''}"
         f"{f', {args.stops} stops of {args.stop_s:g} s' if args.stops else ''}"
-        f"{', on a treadmill' if args.treadmill else ''})"
+        f"{', on a treadmill' if args.treadmill else ''}"
+        f"{', straight passes and turns about' if args.turns else ''})"
         f"{' and ' + str(args.truth) if args.truth else ''}"
     )
 
