@@ -179,8 +179,9 @@ _WIDTH_BASIS = {
     "standing_chain": "step width rests on the calibrated chain at the standing start (too few steps "
     "to check it over the walk)",
     "standing_chain_straight_walk": "step width rests on the calibrated chain at the standing start: "
-    "the walk is straight, so nothing checks its sideways error (up to 7 cm on simulated treadmill "
-    "walks; walks with turns: about 1 cm; docs/limits.md)",
+    "the walk is straight (or straight passes whose turns the feet's tracks went through unaided), so "
+    "nothing checks its sideways error (up to 7 cm on simulated treadmill walks; walks that bend: "
+    "about 1 cm; docs/limits.md)",
 }
 
 

@@ -27,7 +27,7 @@ ANKLE_ROTATION = (8, 17)  # left and right ankle internal rotation in the 18 ang
 @lru_cache(maxsize=2)
 def _walk(noise: bool = False) -> BilateralSimulation:
     return simulate_bilateral(
-        26.0, SEED, noise=None if noise else ImuNoise.none(), turns=TurnParams(pass_s=5.0)
+        40.0, SEED, noise=None if noise else ImuNoise.none(), turns=TurnParams(pass_s=5.0)
     )
 
 
@@ -113,6 +113,13 @@ def test_the_pipeline_finds_events_and_angles_through_the_turns() -> None:
     err = np.rad2deg(res.angles_rad - sim.angles_rad)[walking]
     knee = np.sqrt(np.mean(err[:, [3, 12]] ** 2, axis=0))
     assert knee.max() < 2.0
+    # the tracks went through the turns unaided: the drift breaks there, each pass is straight,
+    # and gait.json says that step width rests on the calibrated chain
+    params = res.gait.parameters
+    assert params is not None and params.track_drift is not None
+    assert params.track_drift.knot_time_s.size > 2 + len(sim.truth["turns"]["start_s"])
+    assert params.track_drift.heading_spread < 0.1
+    assert params.step_width_basis == "standing_chain_straight_walk"
 
 
 def test_the_command_line_simulates_turns_for_two_legs_only(tmp_path, capsys) -> None:

@@ -98,7 +98,9 @@ class TrackDrift:
             straight walk or a treadmill; about 0.2–0.5 on a walk that bends by 15–45°; 1:
             as many steps one way as back). The chain's bias ``b`` is told from the
             anchor's error only through this spread: near 0, the fit keeps the standing
-            anchor and step width carries the chain's sideways error at standing.
+            anchor and step width carries the chain's sideways error at standing. Pooled
+            within the pieces between the drift's breaks (:func:`heading_spread`): straight
+            passes joined by unaided turns about give about 0.
     """
 
     knot_time_s: FloatArray
@@ -183,16 +185,28 @@ def fit_track_drift(
     k = (M.shape[1] - 2) // 2
     F = np.zeros((n_knots, 2))
     F[n_knots - k :, 0], F[n_knots - k :, 1] = sol[2 : 2 + k], sol[2 + k :]
-    return TrackDrift(knots, F, sol[:2].copy(), sd, len(t), heading_spread=heading_spread(u))
+    piece = np.searchsorted(np.sort(gaps.mean(axis=1)), t) if gaps.size else None  # breaks before each step
+    spread = heading_spread(u, piece)
+    return TrackDrift(knots, F, sol[:2].copy(), sd, len(t), heading_spread=spread)
 
 
-def heading_spread(walking_dir: FloatArray) -> float:
-    """``sqrt(1 − |mean u|²)`` of (M, 2) unit walking directions: 0 for one direction, 1 for opposite ones."""
+def heading_spread(walking_dir: FloatArray, piece: np.ndarray | None = None) -> float:
+    """``sqrt(1 − |mean u|²)`` of (M, 2) unit walking directions: 0 for one direction, 1 for opposite ones.
+
+    With ``piece`` (M,), the steps' pieces between the drift's breaks, the pooled spread
+    within the pieces, ``sqrt(1 − Σ n_k |mean_k u|² / M)``: a free jump at a break takes each
+    piece's share of the chain's bias, so only the directions within a piece tell the bias
+    from the drift (straight passes joined by turns about: about 0, as for a straight walk).
+    """
     u = np.asarray(walking_dir, dtype=float).reshape(-1, 2)
     if u.shape[0] == 0:
         return 0.0
-    r = float(np.linalg.norm(u.mean(axis=0)))
-    return float(np.sqrt(max(0.0, 1.0 - min(r, 1.0) ** 2)))
+    labels = np.zeros(u.shape[0], dtype=int) if piece is None else np.asarray(piece)
+    r2 = sum(
+        float(np.sum(labels == k)) * float(np.linalg.norm(u[labels == k].mean(axis=0))) ** 2
+        for k in np.unique(labels)
+    )
+    return float(np.sqrt(max(0.0, 1.0 - min(r2 / u.shape[0], 1.0))))
 
 
 def _interval_scale(knots: FloatArray, gaps: FloatArray, params: GaitParams) -> FloatArray:

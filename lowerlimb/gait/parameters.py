@@ -144,7 +144,8 @@ class GaitParameters:
         ``None``: not anchored (no step width); ``"standing_chain"``: the calibrated chain at
         the standing start alone (fewer than ``chain_drift_min_steps`` steps, or no drift
         fit); ``"standing_chain_straight_walk"``: the chain over the walk could not check it,
-        the walk being straight (:attr:`GaitParams.straight_heading_spread`); ``"chain_over_turns"``:
+        the walk being straight, or its passes straight between breaks of the drift
+        (:attr:`GaitParams.straight_heading_spread`); ``"chain_over_turns"``:
         the walk's turns told the chain's bias from the anchor's error (:mod:`lowerlimb.gait.drift`).
         """
         if not self.anchored:
