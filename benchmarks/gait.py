@@ -249,6 +249,8 @@ def score_simulation(
     out |= {"stride_length_pct": length, "step_width_mm": width, "step_length_mm": step}
     out["stride_turning"] = turning
     out["stride_start_s"] = start
+    out["stride_time_s"] = float(sim.draw.stride_time_s)
+    out["turn_starts_s"] = list(sim.truth.get("turns", {}).get("start_s", []))
     keep = sim.trial.time_s > SKIP_S
     err = np.rad2deg(res.angles_rad - sim.angles_rad)[keep]
     rmse = np.sqrt(np.mean(err**2, axis=0))

@@ -32,7 +32,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import gait as G  # noqa: E402
 from _results import write_results  # noqa: E402
 
-from lowerlimb.simulation import simulate_bilateral  # noqa: E402
 from lowerlimb.simulation.footsteps import PACES  # noqa: E402
 from lowerlimb.simulation.turns import TurnParams  # noqa: E402
 
@@ -47,12 +46,9 @@ def run_variant(variant: str, seed: int, duration_s: float, pace: str = "normal"
     """One seed's walk scored against its truth, its strides split by the turns."""
     turns = TurnParams() if variant == "turns" else None
     tr = G.score_simulation(seed, duration_s, turns=turns, pace=pace)
-    sim = simulate_bilateral(duration_s, seed, turns=turns, pace=pace)
-    starts = sim.truth.get("turns", {}).get("start_s", [])
-    stride_s = sim.draw.stride_time_s
     turn_s = turns.turn_s if turns else 0.0
-    tr["near_turn"] = [_near_turn(starts, turn_s, stride_s, s) for s in tr["stride_start_s"]]
-    tr["turn_starts_s"] = starts
+    near = [_near_turn(tr["turn_starts_s"], turn_s, tr["stride_time_s"], s) for s in tr["stride_start_s"]]
+    tr["near_turn"] = near
     return tr
 
 
