@@ -239,15 +239,17 @@ def score_simulation(
             errs, missed = _event_errors(np.asarray(true_s), np.asarray(est))
             out[f"{side}_{kind}_ms"] = errs
             out[f"{side}_{kind}_missed"] = missed
-    length, width, step, turning, start = [], [], [], [], []
+    length, width, step, turning, own, start = [], [], [], [], [], []
     for st, c in matched_strides(sim, res):
         start.append(float(st.start_s))
         length.append(100.0 * (c.stride_length_m - st.stride_length_m) / st.stride_length_m)
         width.append(1000.0 * (c.step_width_m - st.step_width_m))
         step.append(1000.0 * (c.step_length_m - st.step_length_m))
         turning.append(bool(c.turning or c.step_turning))
+        own.append(bool(c.turning))
     out |= {"stride_length_pct": length, "step_width_mm": width, "step_length_mm": step}
-    out["stride_turning"] = turning
+    out["stride_turning"] = turning  # the step (or the stride) turns: its step width is summarised apart
+    out["stride_own_turning"] = own  # the stride turns: its stride length is summarised apart
     out["stride_start_s"] = start
     out["stride_time_s"] = float(sim.draw.stride_time_s)
     out["turn_starts_s"] = list(sim.truth.get("turns", {}).get("start_s", []))

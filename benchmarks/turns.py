@@ -65,16 +65,11 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
         for key in ("stride_length_pct", "step_width_mm"):
             vals = [e for tr in rows for e in _split(tr, key, near)]
             out[f"{key}_{where}"] = G._stats(vals) | {"lost": int(sum(not np.isfinite(v) for v in vals))}
-    # what gait.json summarises as straight: the strides the pipeline does not call turning
-    vals = [
-        e
-        for tr in rows
-        for e, turn in zip(tr["step_width_mm"], tr["stride_turning"], strict=True)
-        if not turn
-    ]
-    out["step_width_mm_pipeline_straight"] = G._stats(vals) | {
-        "lost": int(sum(not np.isfinite(v) for v in vals))
-    }
+    # what gait.json summarises as straight: the strides and steps the pipeline does not call turning
+    for key, flag in (("stride_length_pct", "stride_own_turning"), ("step_width_mm", "stride_turning")):
+        vals = [e for tr in rows for e, turn in zip(tr[key], tr[flag], strict=True) if not turn]
+        lost = int(sum(not np.isfinite(v) for v in vals))
+        out[f"{key}_pipeline_straight"] = G._stats(vals) | {"lost": lost}
     out["angle_worst_deg"] = max(max(v.values()) for tr in rows for v in tr["angle_rmse_deg"].values())
     return out
 
@@ -90,9 +85,9 @@ def markdown(res: dict[str, Any]) -> str:
         f"(`turns=TurnParams()`). Scored after {G.SKIP_S:g} s against the truth.",
         "",
         "| variant | IC ms | TO ms | stride % straight (lost) | stride % at turns (lost) | "
-        "step width mm straight (lost) | step width mm at turns (lost) | step width mm, gait.json's "
-        "straight (lost) | angles ° |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "step width mm straight (lost) | step width mm at turns (lost) | stride %, gait.json's "
+        "straight (lost) | step width mm, gait.json's straight (lost) | angles ° |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for v in VARIANTS:
         p = res["pooled"][v]
@@ -106,6 +101,7 @@ def markdown(res: dict[str, Any]) -> str:
             f"{p['toe_off']['median_abs']:.1f} / {p['toe_off']['worst_abs']:.0f} | "
             f"{cell('stride_length_pct_straight')} | {cell('stride_length_pct_turn')} | "
             f"{cell('step_width_mm_straight')} | {cell('step_width_mm_turn')} | "
+            f"{cell('stride_length_pct_pipeline_straight')} | "
             f"{cell('step_width_mm_pipeline_straight')} | {p['angle_worst_deg']:.2f} |"
         )
     L += [
@@ -114,7 +110,8 @@ def markdown(res: dict[str, Any]) -> str:
         "the n the pipeline gives, and in brackets how many more it left out (null in gait.json). "
         "Angles: the worst angle RMSE of any joint and side, °. A stride is at a turn when it "
         "starts within a stride time before a turn or inside it (the truth's turns); gait.json's "
-        "straight: the steps the pipeline itself does not call turning, which gait.json summarises.",
+        "straight: the strides and steps the pipeline itself does not call turning (a turning "
+        "heading between the contacts, or a foot that pivoted at one), which gait.json summarises.",
         "",
     ]
     return "\n".join(L)

@@ -120,6 +120,13 @@ def test_the_pipeline_finds_events_and_angles_through_the_turns() -> None:
     assert params.track_drift.knot_time_s.size > 2 + len(sim.truth["turns"]["start_s"])
     assert params.track_drift.heading_spread < 0.1
     assert params.step_width_basis == "standing_chain_straight_walk"
+    # a foot pivoting through a turn has no contact position; its strides and steps are turning
+    # ones, so the strides the summary calls straight have their lengths and widths
+    straight = params.select(turning=False)
+    assert len(straight) > 20
+    assert np.mean([np.isnan(s.stride_length_m) for s in straight]) < 0.2
+    steps = [s for s in params.strides if not s.step_turning]
+    assert np.mean([np.isnan(s.step_width_m) for s in steps]) < 0.2
 
 
 def test_the_command_line_simulates_turns_for_two_legs_only(tmp_path, capsys) -> None:

@@ -1,4 +1,10 @@
-"""Foot contact positions and headings: the stationary period nearest each initial contact."""
+"""Foot contact positions and headings: the stationary period nearest each initial contact.
+
+A contact is also told by how far the foot turns about the vertical between initial
+contact and the end of the stationary period that gives its position: a foot that pivots
+on the floor through a turn about has no still ankle, so that position is not where the
+ankle was at initial contact, and a stride or step ending on it is a turning one.
+"""
 
 from __future__ import annotations
 
@@ -9,7 +15,7 @@ import numpy as np
 from lowerlimb.conventions import FloatArray, quat_to_matrix
 from lowerlimb.gait.trajectory import FootTrajectory
 
-__all__ = ["Contacts", "foot_contacts", "heading_change_rad", "walking_direction"]
+__all__ = ["Contacts", "foot_contacts", "heading_change_rad", "stance_turn_rad", "walking_direction"]
 
 
 @dataclass(frozen=True)
@@ -22,16 +28,43 @@ class Contacts:
             each contact, earth frame, m.
         R_earth_sensor: (K, 3, 3) sensor orientation in the middle of that period.
         period: (K,) index of the stationary run used (-1: none within reach, position NaN).
+        stance_turn_rad: (K,) how far the foot's heading ranges from each contact until the
+            end of its stationary period (:func:`stance_turn_rad`), rad ≥ 0; NaN where
+            neither that period nor a toe-off ends it; ``None``: not measured (no toe-offs).
     """
 
     time_s: FloatArray
     position_m: FloatArray
     R_earth_sensor: FloatArray
     period: np.ndarray
+    stance_turn_rad: FloatArray | None = None
+
+    def pivots(self, max_stance_turn_rad: float) -> np.ndarray:
+        """(K,) bool: the foot turned about the vertical by more than this during the contact's stance."""
+        if self.stance_turn_rad is None:
+            return np.zeros(len(self.time_s), dtype=bool)
+        with np.errstate(invalid="ignore"):
+            return np.asarray(self.stance_turn_rad > max_stance_turn_rad)
+
+    def turning(self, k: int, max_heading_rad: float, max_stance_turn_rad: float) -> bool:
+        """Whether stride ``k`` (contact k to k + 1) turns.
+
+        It turns when the foot's resting heading changes by more than ``max_heading_rad``
+        between its contacts, or when the foot pivots (:meth:`pivots`) during either
+        contact's stance, rad.
+        """
+        h = heading_change_rad(self.R_earth_sensor[k], self.R_earth_sensor[k + 1])
+        if np.isfinite(h) and abs(h) > max_heading_rad:
+            return True
+        return bool(np.any(self.pivots(max_stance_turn_rad)[k : k + 2]))
 
 
 def foot_contacts(
-    traj: FootTrajectory, ic_s: FloatArray, offset_in_sensor_m: FloatArray, max_gap_s: float
+    traj: FootTrajectory,
+    ic_s: FloatArray,
+    offset_in_sensor_m: FloatArray,
+    max_gap_s: float,
+    to_s: FloatArray | None = None,
 ) -> Contacts:
     """Positions of a point fixed in the foot at each initial contact.
 
@@ -52,6 +85,7 @@ def foot_contacts(
         ic_s: (K,) initial-contact times, s (sample 0 at t = 0).
         offset_in_sensor_m: (3,) point in the foot sensor frame, m.
         max_gap_s: Largest accepted time gap between a contact and its period, s.
+        to_s: (M,) toe-off times, s, to measure each stance's turn (``None``: not measured).
 
     Returns:
         One resting pose per contact.
@@ -68,7 +102,51 @@ def foot_contacts(
         a, b = traj.stationary.runs[j]
         pos[i] = pts[a:b].mean(axis=0)
         rot[i] = R[(a + b - 1) // 2]
-    return Contacts(time_s=np.asarray(ic_s, dtype=float), position_m=pos, R_earth_sensor=rot, period=idx)
+    ic = np.asarray(ic_s, dtype=float)
+    turn = None
+    if to_s is not None:
+        run_end = np.array([traj.stationary.runs[j][1] / traj.rate_hz if j >= 0 else np.nan for j in idx])
+        turn = stance_turn_rad(R, traj.rate_hz, ic, np.asarray(to_s, dtype=float), run_end)
+    return Contacts(time_s=ic, position_m=pos, R_earth_sensor=rot, period=idx, stance_turn_rad=turn)
+
+
+def stance_turn_rad(
+    R_earth_sensor: FloatArray, rate_hz: float, ic_s: FloatArray, to_s: FloatArray, run_end_s: FloatArray
+) -> FloatArray:
+    """(K,) range of the foot's heading from each contact until its position was taken, rad.
+
+    The span runs from each initial contact to the end of the stationary period that gives
+    its position (``run_end_s``), or without one to the first toe-off after it (NaN: no
+    toe-off before the next contact). The heading is the rotation about the vertical from
+    the orientation at the contact (:func:`heading_change_rad`), unwrapped, and its range
+    (largest minus smallest) is kept. A foot that turns only after its stationary period
+    (onto the next pass, pushing off its forefoot) keeps its contact position. On the real
+    walk of ``gait/`` straight stances range over 4–8° (the foot rolls and its sensor moves
+    on the skin); the simulator's feet pivoting through a turn about 17–180°.
+
+    Args:
+        R_earth_sensor: (N, 3, 3) sensor orientation at each sample (sample 0 at t = 0).
+        rate_hz: Sampling rate, Hz.
+        ic_s: (K,) initial-contact times, s, increasing.
+        to_s: (M,) toe-off times, s, increasing.
+        run_end_s: (K,) end of each contact's stationary period, s (NaN: none).
+    """
+    n = R_earth_sensor.shape[0]
+    out = np.full(len(ic_s), np.nan)
+    for k, t in enumerate(ic_s):
+        stop = run_end_s[k]
+        if not np.isfinite(stop):
+            later = to_s[to_s > t]
+            if later.size == 0 or (k + 1 < len(ic_s) and later[0] >= ic_s[k + 1]):
+                continue
+            stop = later[0]
+        a, b = int(round(t * rate_hz)), int(round(stop * rate_hz))
+        if a < 0 or b >= n or b <= a:
+            continue
+        D = R_earth_sensor[a : b + 1] @ R_earth_sensor[a].T
+        yaw = np.unwrap(np.arctan2(D[:, 1, 0] - D[:, 0, 1], D[:, 0, 0] + D[:, 1, 1]))
+        out[k] = float(np.ptp(yaw))
+    return out
 
 
 def _nearest_periods(intervals_s: FloatArray, ic_s: FloatArray, max_gap_s: float) -> np.ndarray:

@@ -16,9 +16,11 @@ Definitions (events from :mod:`lowerlimb.gait.events`, positions from
 - cadence = 60 / mean step time (steps/min); gait speed = stride length / stride time.
 
 A stride is *turning* when the foot's heading (yaw of its resting orientation)
-changes by more than :attr:`GaitParams.turn_heading_deg` between its two contacts;
-turning strides are summarised apart from the straight ones. A step is straight
-when the other leg's stride P → N is.
+changes by more than :attr:`GaitParams.turn_heading_deg` between its two contacts, or
+when the foot pivots on the floor (turns by more than :attr:`GaitParams.stance_turn_deg`
+during the stance) at either contact; turning strides are summarised apart from the
+straight ones. A step is straight when the other leg's stride P → N is and the foot did
+not pivot at IC_k.
 
 Step length and width need both feet in one horizontal frame. Each foot is
 integrated on its own, so one foot's track is placed on the other's
@@ -253,19 +255,21 @@ def compute_gait_parameters(
     for side in _SIDES:
         ev, tr = evs[side], trajs[side]
         if ev is not None and tr is not None:
-            contacts[side] = foot_contacts(tr, ev.initial_contact_s, offset, 0.5 * p.max_stride_time_s)
+            half = 0.5 * p.max_stride_time_s
+            contacts[side] = foot_contacts(tr, ev.initial_contact_s, offset, half, ev.toe_off_s)
     placements = _placements(contacts, trajs, anchor, chain, offset, p)
     yaw = next((pl.yaw_rad for pl in placements if pl.reference == "left"), float("nan"))
     if np.isnan(yaw) and "left" in contacts and "right" in contacts:
         yaw = relative_heading_rad(contacts["left"], contacts["right"], p)
-    thr = np.deg2rad(p.turn_heading_deg)
+    thr, stance_thr = np.deg2rad(p.turn_heading_deg), np.deg2rad(p.stance_turn_deg)
     turning: dict[str, list[bool]] = {}
     heading: dict[str, list[float]] = {}
+    pivots: dict[str, np.ndarray] = {}
     for side, cc in contacts.items():
         R = cc.R_earth_sensor
-        h = [heading_change_rad(R[k], R[k + 1]) for k in range(len(cc.time_s) - 1)]
-        heading[side] = h
-        turning[side] = [bool(abs(x) > thr) if np.isfinite(x) else False for x in h]
+        heading[side] = [heading_change_rad(R[k], R[k + 1]) for k in range(len(cc.time_s) - 1)]
+        turning[side] = [cc.turning(k, thr, stance_thr) for k in range(len(cc.time_s) - 1)]
+        pivots[side] = cc.pivots(stance_thr)
     strides: list[Stride] = []
     nan = float("nan")
     for side in _SIDES:
@@ -286,12 +290,13 @@ def compute_gait_parameters(
             if c is not None:
                 length = float(np.linalg.norm(c.position_m[k + 1, :2] - c.position_m[k, :2]))
                 hdg, turn = float(np.rad2deg(heading[side][k])), turning[side][k]
+                step_turn = bool(pivots[side][k])
             step_len, width = _step(placements, side, k)
             co = contacts.get(oside)
             if co is not None:
                 before = np.flatnonzero(co.time_s < ic[k])
                 if before.size and before[-1] < len(turning[oside]):
-                    step_turn = turning[oside][int(before[-1])]
+                    step_turn = step_turn or turning[oside][int(before[-1])]
             strides.append(
                 Stride(
                     side=side,

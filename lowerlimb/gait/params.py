@@ -83,6 +83,12 @@ class GaitParams:
             norm over the stationary samples, m/s².
         turn_heading_deg: A stride whose foot heading changes by more than this between
             its two contacts is a turning stride, deg.
+        stance_turn_deg: A contact whose foot turns about the vertical by more than this
+            between initial contact and the end of its stationary period
+            (:func:`~lowerlimb.gait.contacts.stance_turn_rad`) pivoted, and the strides and
+            steps ending on it are turning ones: its ankle moved while the foot stood, deg.
+            Straight stances of the real walk of ``gait/`` range over 4–8°; the
+            simulator's pivoting feet through a turn about 17–180°.
         pair_yaw_window_s: Standard deviation of the Gaussian kernel over which the heading
             between the two feet's trajectories is averaged, s (``inf``: one rotation for
             the whole walk).
@@ -160,6 +166,7 @@ class GaitParams:
     merge_gap_s: float = 0.03
     gravity_mps2: float | None = None
     turn_heading_deg: float = 20.0
+    stance_turn_deg: float = 20.0
     pair_yaw_window_s: float = 10.0
     pair_yaw_at_mid_time: bool = True
     max_standing_leg_tilt_deg: float = 15.0
@@ -186,7 +193,7 @@ class GaitParams:
         gap = self.chain_drift_gap_s
         if gap is not None and not gap > 0:
             raise InputError(f"chain_drift_gap_s must be > 0 s or None (no breaks), got {gap}")
-        for name in ("chain_drift_sd_m", "chain_drift_huber", "chain_drift_break_sd_m"):
+        for name in ("chain_drift_sd_m", "chain_drift_huber", "chain_drift_break_sd_m", "stance_turn_deg"):
             if not getattr(self, name) > 0:
                 raise InputError(f"{name} must be > 0, got {getattr(self, name)}")
         anchor_sd = self.chain_anchor_sd_m

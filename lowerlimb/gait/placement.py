@@ -26,7 +26,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from lowerlimb.conventions import FloatArray, rot_z
-from lowerlimb.gait.contacts import Contacts, heading_change_rad, walking_direction
+from lowerlimb.gait.contacts import Contacts, walking_direction
 from lowerlimb.gait.drift import ChainSteps, TrackDrift, track_drift, unaided_gaps
 from lowerlimb.gait.params import GaitParams
 from lowerlimb.gait.trajectory import FootTrajectory
@@ -85,7 +85,7 @@ def mean_walking_direction(a: Contacts, b: Contacts, time_s: float) -> FloatArra
 
 def _pair_yaw_samples(c_ref: Contacts, c_mov: Contacts, p: GaitParams) -> FloatArray:
     """(M, 3) rows ``(time s, reference − moving stride direction rad, weight m²)`` of overlapping strides."""
-    thr = np.deg2rad(p.turn_heading_deg)
+    thr, stance_thr = np.deg2rad(p.turn_heading_deg), np.deg2rad(p.stance_turn_deg)
 
     def straight(c: Contacts) -> list[tuple[float, float, FloatArray]]:
         out = []
@@ -94,7 +94,7 @@ def _pair_yaw_samples(c_ref: Contacts, c_mov: Contacts, p: GaitParams) -> FloatA
             dt = c.time_s[k + 1] - c.time_s[k]
             if not np.all(np.isfinite(d)) or dt > p.max_stride_time_s:
                 continue
-            if abs(heading_change_rad(c.R_earth_sensor[k], c.R_earth_sensor[k + 1])) > thr:
+            if c.turning(k, thr, stance_thr):
                 continue
             out.append((float(c.time_s[k]), float(c.time_s[k + 1]), d))
         return out
