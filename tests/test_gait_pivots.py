@@ -93,3 +93,13 @@ def test_strides_ending_on_a_pivot_are_turning() -> None:
 def test_bad_stance_turn_threshold_is_refused(value: float) -> None:
     with pytest.raises(InputError, match="stance_turn_deg"):
         GaitParams(stance_turn_deg=value)
+
+
+def test_a_contact_without_a_stationary_period_takes_no_earlier_stances() -> None:
+    """A foot pivoting through its whole stance has no still period; the previous stance's,
+    which ended before it touched down, made a stride of 1 cm on a slow walk with turns."""
+    from lowerlimb.gait.contacts import _nearest_periods
+
+    periods = np.array([[0.2, 0.6], [0.7, 0.8], [3.2, 3.6]])  # a stance split in two, then one later
+    ic = np.array([0.1, 1.5, 3.0])  # the middle contact pivoted: no period of its own
+    assert list(_nearest_periods(periods, ic, max_gap_s=1.0)) == [0, -1, 2]

@@ -68,17 +68,17 @@ def foot_contacts(
 ) -> Contacts:
     """Positions of a point fixed in the foot at each initial contact.
 
-    The stationary period nearest in time to each contact (time distance to the
-    interval, zero when inside) gives the position; a point at
+    The stationary period nearest in time to each contact among those that have not ended
+    before it (time to the interval's start, zero when inside) gives the position; a point at
     ``offset_in_sensor_m`` (e.g. the ankle centre, m) is added with the period's
     orientation. During flat-foot the foot does not move, so any such offset
     shifts all contact positions of a straight pass equally (for equal foot
     heading) and leaves stride length unchanged. Contacts farther than
     ``max_gap_s`` from every period get NaN positions and ``period = -1``, and so
     does a contact whose nearest period is nearer to another contact: a foot stands
-    once per contact, and a contact just before the recording ends, whose stance was
-    not recorded, would otherwise take the previous contact's period and make a
-    stride of length zero.
+    once per contact, and a contact whose stance has no stationary period (recorded
+    only in part, or pivoting through a turn) would otherwise take a neighbour's period
+    and make a stride of length zero.
 
     Args:
         traj: Foot trajectory with its stationary periods.
@@ -153,14 +153,17 @@ def _nearest_periods(intervals_s: FloatArray, ic_s: FloatArray, max_gap_s: float
     """(K,) index of each contact's stationary period (-1: none within ``max_gap_s``, or taken).
 
     ``intervals_s`` (P, 2) are the periods' start and end times, s. The gap is the time
-    distance from the contact to the interval (zero inside). A period that is the nearest
-    of several contacts stays with the contact it is nearest to; the others get -1.
+    from the contact to the interval's start (zero inside). A period that ended before the
+    contact belongs to an earlier stance (the foot stands after it touches down: a pivoting
+    foot with no period of its own took the previous stance's and made a stride of 1 cm) and
+    is not a candidate. A period that is the nearest of several contacts stays with the
+    contact it is nearest to; the others get -1.
     """
     idx = np.full(len(ic_s), -1, dtype=int)
     if intervals_s.shape[0] == 0:
         return idx
     gap = np.maximum(intervals_s[None, :, 0] - ic_s[:, None], 0.0)
-    gap += np.maximum(ic_s[:, None] - intervals_s[None, :, 1], 0.0)
+    gap[intervals_s[None, :, 1] < ic_s[:, None]] = np.inf  # ended before the contact: an earlier stance
     nearest = np.argmin(gap, axis=1)
     best = gap[np.arange(len(ic_s)), nearest]
     lowest = np.full(intervals_s.shape[0], np.inf)  # each period's smallest gap to a contact
