@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 
 from lowerlimb.conventions import ANGLE_COLUMNS, SIDES
+from lowerlimb.gait.turns import detect_turns
 from lowerlimb.io import load_xsens
 from lowerlimb.outputs import CalibrateOptions
 from lowerlimb.outputs_bilateral import run_calibrate_bilateral
@@ -50,6 +51,7 @@ from _results import real_data_main  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 MATCH_S = 0.2
+VICON_RATE_HZ = 100.0
 GOALS = {"length_mm": 20.0, "stride_length_pct": 3.0, "step_width_mm": 20.0}
 
 
@@ -171,6 +173,25 @@ def score_strides(result: Any, vicon: dict, ge: ModuleType) -> dict[str, Any]:
     return {"stride_length_err_pct": _stats(sl), "step_width_err_mm": _stats(sw), "strides": rows}
 
 
+def vicon_pelvis_rate(vicon: dict) -> np.ndarray:
+    """(N,) vertical rate of the pelvis markers' heading (ASIS and PSIS, right minus left), rad/s."""
+    lateral = (vicon["RASI"] + vicon["RPSI"] - vicon["LASI"] - vicon["LPSI"])[:, :2].astype(float)
+    heading = np.unwrap(np.arctan2(lateral[:, 0], -lateral[:, 1]))  # forward: the right axis turned 90° left
+    return np.asarray(np.gradient(heading) * VICON_RATE_HZ)
+
+
+def score_turns(result: Any, vicon: dict) -> dict[str, Any]:
+    """The walker's turns (gait.json's) against the same detector on the Vicon pelvis markers.
+
+    The reference uses the IMU's smoothing window, so the two differ only in the signal.
+    """
+    turns = result.gait.turns
+    if turns is None:
+        return {"imu": [], "vicon": []}
+    ref = detect_turns(vicon_pelvis_rate(vicon), VICON_RATE_HZ, stride_time_s=turns.window_s)
+    return {"imu": [t.to_dict() for t in turns.turns], "vicon": [t.to_dict() for t in ref.turns]}
+
+
 def run(data: Path, thigh_twist: bool = False) -> dict[str, Any]:
     """Both legs of the real walk through ``calibrate`` (``--thigh-twist`` when ``thigh_twist``), scored."""
     vicon = load_vicon(data)
@@ -212,6 +233,7 @@ def run(data: Path, thigh_twist: bool = False) -> dict[str, Any]:
         result.gait.parameters.relative_heading_deg if result.gait.parameters else None
     )
     res["runtime_s"] = result.runtime_s
+    res["turns"] = score_turns(result, vicon)
     return res
 
 
@@ -279,6 +301,22 @@ def markdown(res: dict[str, Any]) -> str:
         f"{a.get('forward_m', float('nan')):+.3f} m, left {a.get('left_m', float('nan')):+.3f} m; "
         f"right-to-left heading alignment of the foot trajectories {res['relative_heading_deg']:.1f}°. "
         f"Joint calibration {res['runtime_s']:.2f} s; whole command {res['wall_s']:.1f} s.",
+        "",
+        "The walker's turns (gait.json's `turns`, from the pelvis sensor's vertical rate smoothed "
+        "over a stride, `lowerlimb.gait.turns`) against the same detector on the Vicon pelvis "
+        "markers' heading (ASIS and PSIS), with the same window:",
+        "",
+        "| source | start s | end s | angle ° | peak °/s | steps |",
+        "|---|---|---|---|---|---|",
+    ]
+    for source in ("imu", "vicon"):
+        for t in res.get("turns", {}).get(source, []):
+            steps = t["steps"] if source == "imu" else "–"
+            L.append(
+                f"| {source} | {t['start_s']:.2f} | {t['end_s']:.2f} | {t['angle_deg']:+.1f} | "
+                f"{t['peak_rate_deg_s']:.0f} | {steps} |"
+            )
+    L += [
         "",
         "| side | start s | straight | stride IMU/Vicon m | step width IMU/Vicon m |",
         "|---|---|---|---|---|",

@@ -52,6 +52,7 @@ from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.conventions import ANGLE_COLUMNS, SIDES
 from lowerlimb.gait import GaitParams
+from lowerlimb.gait.turns import detect_turns, vertical_rate
 from lowerlimb.model.fallback import segment_lengths
 from lowerlimb.simulation import Artefacts, simulate_bilateral
 from lowerlimb.simulation.footsteps import PACE_RANGES, PACES
@@ -253,6 +254,15 @@ def score_simulation(
     out["stride_start_s"] = start
     out["stride_time_s"] = float(sim.draw.stride_time_s)
     out["turn_starts_s"] = list(sim.truth.get("turns", {}).get("start_s", []))
+    found = res.gait.turns
+    if found is not None:
+        # the same detector on the true pelvis, with the pipeline's window: the walker's turns
+        true_rate = vertical_rate(sim.clean.gyr["pelvis"], sim.quat_wxyz["pelvis"])
+        ref = detect_turns(
+            true_rate, rate_hz, stride_time_s=found.window_s, start_time_s=float(sim.trial.time_s[0])
+        )
+        out["walker_turns"] = [t.to_dict() for t in found.turns]
+        out["walker_turns_truth"] = [t.to_dict() for t in ref.turns]
     keep = sim.trial.time_s > SKIP_S
     err = np.rad2deg(res.angles_rad - sim.angles_rad)[keep]
     rmse = np.sqrt(np.mean(err**2, axis=0))

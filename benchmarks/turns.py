@@ -71,7 +71,37 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
         lost = int(sum(not np.isfinite(v) for v in vals))
         out[f"{key}_pipeline_straight"] = G._stats(vals) | {"lost": lost}
     out["angle_worst_deg"] = max(max(v.values()) for tr in rows for v in tr["angle_rmse_deg"].values())
+    out["walker_turns"] = _walker_turns(rows)
     return out
+
+
+def _walker_turns(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """gait.json's complete turns against the same detector on the true pelvis: counts and errors.
+
+    A found turn matches the true turn of the same direction it overlaps most.
+    """
+    found = truth = wrong = 0
+    err: dict[str, list[float]] = {"angle_deg": [], "start_ms": [], "end_ms": [], "peak_pct": []}
+    for tr in rows:
+        est = [t for t in tr.get("walker_turns", []) if t["complete"]]
+        ref = [t for t in tr.get("walker_turns_truth", []) if t["complete"]]
+        found, truth = found + len(est), truth + len(ref)
+        for t in est:
+            ov = [
+                min(t["end_s"], r["end_s"]) - max(t["start_s"], r["start_s"])
+                if r["direction"] == t["direction"]
+                else 0
+                for r in ref
+            ]
+            if not ov or max(ov) <= 0:
+                wrong += 1
+                continue
+            r = ref[int(np.argmax(ov))]
+            err["angle_deg"].append(t["angle_deg"] - r["angle_deg"])
+            err["start_ms"].append(1000 * (t["start_s"] - r["start_s"]))
+            err["end_ms"].append(1000 * (t["end_s"] - r["end_s"]))
+            err["peak_pct"].append(100 * (t["peak_rate_deg_s"] / r["peak_rate_deg_s"] - 1))
+    return {"found": found, "true": truth, "unmatched": wrong} | {k: G._stats(v) for k, v in err.items()}
 
 
 def markdown(res: dict[str, Any]) -> str:
@@ -103,6 +133,26 @@ def markdown(res: dict[str, Any]) -> str:
             f"{cell('step_width_mm_straight')} | {cell('step_width_mm_turn')} | "
             f"{cell('stride_length_pct_pipeline_straight')} | "
             f"{cell('step_width_mm_pipeline_straight')} | {p['angle_worst_deg']:.2f} |"
+        )
+    L += [
+        "",
+        "The walker's turns (gait.json's `turns`: the pelvis sensor's vertical rate smoothed over a "
+        "stride, `lowerlimb.gait.turns`) against the same detector on the true pelvis, complete "
+        "turns only (median / worst abs error):",
+        "",
+        "| variant | turns found / true (unmatched) | angle ° | start ms | end ms | peak rate % |",
+        "|---|---|---|---|---|---|",
+    ]
+    for v in VARIANTS:
+        w = res["pooled"][v]["walker_turns"]
+
+        def err(key: str, w: dict[str, Any] = w) -> str:
+            e = w[key]
+            return f"{e['median_abs']:.1f} / {e['worst_abs']:.1f}" if e.get("n") else "–"
+
+        L.append(
+            f"| {v} | {w['found']} / {w['true']} ({w['unmatched']}) | {err('angle_deg')} | "
+            f"{err('start_ms')} | {err('end_ms')} | {err('peak_pct')} |"
         )
     L += [
         "",

@@ -203,7 +203,24 @@ def gait_summary_lines(result: BilateralResult) -> list[str]:
         f"{g['cadence_steps_per_min']:.0f} steps/min, speed {g['gait_speed_m_s']:.2f} m/s{width_text}"
     ]
     basis = _WIDTH_BASIS.get(str(g.get("step_width_basis")))
-    return lines + ([f"       {basis}"] if basis and width_text else [])
+    lines += [f"       {basis}"] if basis and width_text else []
+    return lines + _turn_lines(result)
+
+
+def _turn_lines(result: BilateralResult) -> list[str]:
+    """The terminal's line on the walker's turns (none when the walker did not turn)."""
+    turns = result.gait.turns
+    if turns is None or not turns.turns:
+        return []
+    t = turns.to_dict()
+    cut = f" (and {t['cut_by_recording']} cut by the recording)" if t["cut_by_recording"] else ""
+    if not t["count"]:
+        return [f"turns  none complete{cut}"]
+    return [
+        f"turns  {t['count']}{cut}: {t['angle_deg']['mean']:.0f} deg in {t['duration_s']['mean']:.1f} s, "
+        f"{t['steps']['mean']:.1f} steps, peak {t['peak_rate_deg_s']['mean']:.0f} deg/s (means); turning "
+        "strides and steps are summarised apart in gait.json"
+    ]
 
 
 def _gait_section(result: BilateralResult) -> str:

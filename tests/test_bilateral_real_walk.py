@@ -41,6 +41,13 @@ def test_real_walk_two_legs():
     # one pelvis: measured +2 mm (the single-leg centres +104 mm: poorly determined vertically)
     assert abs(res["hips"]["spacing_err_mm"]) < 40
     assert res["hips"]["single_leg_spacing_mm"] > res["hips"]["spacing_mm"]
+    # the walk's one turn (to the right) against the Vicon pelvis markers: measured 0.04 / 0.03 s
+    # at its start / end, 0.1° of its angle (-184°)
+    (imu,), (ref,) = res["turns"]["imu"], res["turns"]["vicon"]
+    assert imu["direction"] == ref["direction"] == "right" and imu["complete"]
+    assert abs(imu["angle_deg"] - ref["angle_deg"]) < 5.0 and abs(abs(imu["angle_deg"]) - 180.0) < 20.0
+    assert abs(imu["start_s"] - ref["start_s"]) < 0.2 and abs(imu["end_s"] - ref["end_s"]) < 0.2
+    assert imu["steps"] >= 2
 
 
 def _real_walk_and_swapped():

@@ -127,6 +127,17 @@ def test_the_pipeline_finds_events_and_angles_through_the_turns() -> None:
     assert np.mean([np.isnan(s.stride_length_m) for s in straight]) < 0.2
     steps = [s for s in params.strides if not s.step_turning]
     assert np.mean([np.isnan(s.step_width_m) for s in steps]) < 0.2
+    # the walker's turns from the pelvis sensor: each simulated turn about, its direction and 180°
+    turns = res.gait.turns
+    assert turns is not None
+    done = [t for t in turns.turns if t.complete]
+    truth = sim.truth["turns"]
+    ends = [s + truth["turn_s"] for s in truth["start_s"] if s + truth["turn_s"] < sim.trial.time_s[-1]]
+    assert len(done) == len(ends)
+    for t, start, direction in zip(done, truth["start_s"], truth["direction"], strict=False):
+        assert abs(abs(t.angle_deg) - 180.0) < 15.0 and t.direction == direction
+        assert abs(t.start_s - start) < 0.5 and abs(t.end_s - (start + truth["turn_s"])) < 0.5
+        assert t.steps >= 3
 
 
 def test_the_command_line_simulates_turns_for_two_legs_only(tmp_path, capsys) -> None:

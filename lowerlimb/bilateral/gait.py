@@ -46,6 +46,7 @@ from ..gait import (
     integrate_foot,
 )
 from ..gait.placement import mean_walking_direction
+from ..gait.turns import Turns, detect_turns, vertical_rate
 from ..pipeline import TrialResult
 from .chain_steps import chain_steps
 
@@ -71,6 +72,8 @@ class BilateralGait:
         sensor_to_ankle_m: ``{side: (3,)}`` calibrated ankle centre in the foot sensor frame, m.
         trajectories: ``{side: ankle-centre trajectory}`` (earth frame of the pelvis heading).
         note: Why there are no parameters, or ``""``.
+        turns: The walker's turns from the pelvis sensor (:mod:`lowerlimb.gait.turns`), or
+            ``None`` without events.
     """
 
     events: GaitEvents | None
@@ -79,6 +82,7 @@ class BilateralGait:
     sensor_to_ankle_m: dict[str, FloatArray]
     trajectories: dict[str, FootTrajectory] = field(default_factory=dict)
     note: str = ""
+    turns: Turns | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """The docs/formats.md ``gait.json`` content (NaN as ``None``), with the anchor and offsets."""
@@ -97,6 +101,7 @@ class BilateralGait:
                 s: np.asarray(v).tolist() for s, v in self.sensor_to_ankle_m.items()
             }
         d["anchor"] = None if self.anchor is None else asdict(self.anchor) | {"source": "calibrated chain"}
+        d["turns"] = None if self.turns is None else self.turns.to_dict()
         return _json_safe(d)
 
 
@@ -242,4 +247,23 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
     )
     t0 = float(trial.time_s[0])
     shifted = GaitEvents(left=_shift(events.left, t0), right=_shift(events.right, t0), extras=events.extras)
-    return BilateralGait(shifted, parameters, anchor, offsets, trajs)
+    turns = walker_turns(legs["left"], shifted, p)
+    return BilateralGait(shifted, parameters, anchor, offsets, trajs, turns=turns)
+
+
+def walker_turns(leg: TrialResult, events: GaitEvents, params: GaitParams) -> Turns:
+    """The walker's turns from the pelvis sensor of ``leg`` (events on the trial's clock, s)."""
+    gyr = leg.trial.gyr["pelvis"] - leg.calibration.gyro_bias.get("pelvis", np.zeros(3))
+    rate_z = vertical_rate(gyr, leg.motion.sensor_quat_wxyz["pelvis"])
+    sides = events.sides()
+    strides = [np.diff(e.initial_contact_s) for e in sides]
+    stride = np.concatenate(strides) if strides else np.zeros(0)
+    stride = stride[stride <= params.max_stride_time_s]
+    return detect_turns(
+        rate_z,
+        leg.trial.rate_hz,
+        stride_time_s=float(np.median(stride)) if stride.size else None,
+        initial_contacts_s=np.concatenate([e.initial_contact_s for e in sides]) if sides else None,
+        start_time_s=float(leg.trial.time_s[0]),
+        params=params,
+    )

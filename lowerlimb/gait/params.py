@@ -139,6 +139,16 @@ class GaitParams:
             the foot sensor frame, m (zeros: gait geometry on the sensor positions).
         max_ds_fraction: A double-support interval longer than this fraction of the
             stride is treated as a detection failure and not used.
+        pelvis_turn_edge_dps: A turn of the walker (:mod:`lowerlimb.gait.turns`) lasts while
+            the pelvis's stride-smoothed vertical rate stays above this, deg/s (El-Gohary et
+            al. 2014: 5).
+        pelvis_turn_peak_dps: ... and must peak above this, deg/s (El-Gohary et al. 2014: 15;
+            a walk bending on a 15 m radius at 1.4 m/s turns at 5).
+        pelvis_turn_merge_s: Turns of one direction less than this apart are one turn with a
+            hesitation, s (Shah et al. 2021 merge gradual turns within 0.5 s).
+        pelvis_turn_min_deg: Smallest turn angle kept, deg (El-Gohary et al. 2014: 45).
+        pelvis_turn_duration_s: Shortest and longest turn kept, s (El-Gohary et al. 2014:
+            0.5 and 10).
     """
 
     sagittal_lowpass_hz: float = 15.0
@@ -182,6 +192,11 @@ class GaitParams:
     chain_stance_margin_s: float = 0.1
     sensor_to_ankle_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     max_ds_fraction: float = 0.4
+    pelvis_turn_edge_dps: float = 5.0
+    pelvis_turn_peak_dps: float = 15.0
+    pelvis_turn_merge_s: float = 0.5
+    pelvis_turn_min_deg: float = 45.0
+    pelvis_turn_duration_s: tuple[float, float] = (0.5, 10.0)
 
     def __post_init__(self) -> None:
         rate = self.min_event_rate_hz
@@ -193,6 +208,23 @@ class GaitParams:
         gap = self.chain_drift_gap_s
         if gap is not None and not gap > 0:
             raise InputError(f"chain_drift_gap_s must be > 0 s or None (no breaks), got {gap}")
+        edge, peak = self.pelvis_turn_edge_dps, self.pelvis_turn_peak_dps
+        if not (0 < edge <= peak < np.inf):
+            raise InputError(
+                "pelvis_turn_edge_dps and pelvis_turn_peak_dps must satisfy 0 < edge <= peak, got "
+                f"{edge} and {peak}"
+            )
+        lo, hi = self.pelvis_turn_duration_s
+        if not (0 <= lo < hi):
+            raise InputError(
+                "pelvis_turn_duration_s must be (shortest, longest) with 0 <= shortest < longest, got "
+                f"{(lo, hi)}"
+            )
+        if not (self.pelvis_turn_merge_s >= 0 and self.pelvis_turn_min_deg >= 0):
+            raise InputError(
+                "pelvis_turn_merge_s and pelvis_turn_min_deg must be >= 0, got "
+                f"{self.pelvis_turn_merge_s} and {self.pelvis_turn_min_deg}"
+            )
         for name in ("chain_drift_sd_m", "chain_drift_huber", "chain_drift_break_sd_m", "stance_turn_deg"):
             if not getattr(self, name) > 0:
                 raise InputError(f"{name} must be > 0, got {getattr(self, name)}")
