@@ -177,12 +177,16 @@ class FitBand:
         capped: the joint sensor pairs (``"parent-child"``) whose cut-offs the coherent band's
             caps lowered; the band matters only for these (empty: it made no difference, or
             no coherent fit was made).
+        uncapped: the joints come from a fit without the rigid-band caps, because the leg was
+            implausible in both bands while its knee showed rigid sensors (``reason`` says
+            why the widened fit was not kept).
     """
 
     factor: float = 1.0
     widened: bool = False
     reason: str | None = None
     capped: tuple[str, ...] = ()
+    uncapped: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         """The calibration.json record."""
@@ -191,6 +195,7 @@ class FitBand:
             "widened": bool(self.widened),
             "reason": self.reason,
             "capped": list(self.capped),
+            "uncapped": bool(self.uncapped),
         }
 
     @classmethod
@@ -199,7 +204,17 @@ class FitBand:
         if not d:
             return cls()
         capped = tuple(str(k) for k in d.get("capped", ()))
-        return cls(float(d.get("factor", 1.0)), bool(d.get("widened", False)), d.get("reason"), capped)
+        widened, uncapped = bool(d.get("widened", False)), bool(d.get("uncapped", False))
+        return cls(float(d.get("factor", 1.0)), widened, d.get("reason"), capped, uncapped)
+
+    def uncapped_message(self, coherent_reason: str) -> str:
+        """The warning of a leg refitted without the rigid-band caps."""
+        return (
+            f"calibration: the leg was implausible both where its sensors' acceleration norms are "
+            f"coherent ({coherent_reason}) and in a band {self.factor:g}× wider ({self.reason}), while "
+            f"its knee showed sensors rigid on the bone; fitted without the rigid-band caps, as "
+            f"rotation about the hip (turns about, a shuffling gait) also makes the norms incoherent"
+        )
 
     def fallback_message(self) -> str:
         """The warning of a leg refitted in the coherent band."""

@@ -398,8 +398,38 @@ def _fit_in_band(leg: _CheckedLeg, opts: CalibrationOptions) -> LegCalibration:
         kept = _kept(leg, wide, FitBand(factor, widened=True, capped=capped), caught_wide)
         return replace(kept, coherent_fit=replace(coherent.cal, fit_band=kept.fit_band))
     band = FitBand(factor, reason=reason, capped=capped)
+    coherent_reason = implausible_segment(coherent.cal, opts)
+    if coherent_reason is not None:
+        free = _uncapped_fit(leg, opts, rigid_knee)
+        if free is not None:
+            band = replace(band, uncapped=True)
+            cal = _kept(leg, free[0], band, free[1])
+            return replace(cal, knee=_with_warning(cal.knee, band.uncapped_message(coherent_reason)))
     cal = _kept(leg, coherent, band, caught)
     return replace(cal, knee=_with_warning(cal.knee, band.fallback_message()))
+
+
+def _uncapped_fit(
+    leg: _CheckedLeg, opts: CalibrationOptions, rigid_knee: Callable[[HingeJointCalibration], None]
+) -> tuple[_Fit, list[warnings.WarningMessage]] | None:
+    """The leg fitted without rigid-band caps, when that gives a plausible leg on a rigid knee, else ``None``.
+
+    The caps end a joint's band where the two sensors' acceleration norms stop being coherent,
+    which soft tissue does, but so does rigid rotation about the hip: a pelvis and a thigh
+    sensor see different centripetal and tangential accelerations (their lever arms differ).
+    A shuffling walk with turns about (seed 203) had both hips capped at the 2 Hz floor, both
+    legs' thighs 144–157 mm long and fell back on de Leva; uncapped, the hips and ankles came
+    out 1–3 mm from the truth. Tried only where both capped fits are implausible.
+    """
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            free = _fit_leg(leg, replace(opts, rigid_band=False, check_sensor_order=False), rigid_knee)
+    except _NotRigid:
+        return None
+    if implausible_segment(free.cal, opts) is not None:
+        return None
+    return free, caught
 
 
 def _without_limits(

@@ -299,6 +299,9 @@ class CalibrationOptions:
         clock_split_tol_s: ... and when the lags of the trial's two halves agree within this, s.
         clock_lowpass_hz: low-pass of those norms before they are compared, Hz.
         clock_passes: at most this many estimate-and-recalibrate passes.
+        clock_max_residual_growth: a re-timing step is undone when a joint it moved fits
+            worse by more than this factor (its residual: the knee's hinge axis, the hip's
+            and ankle's centre; :func:`~lowerlimb.calibration.clock_sync.worse_fits`).
         rest_gravity_warn_mps2: warn (:class:`~lowerlimb.calibration.rest_gravity.AccelerometerOffsetWarning`)
             when an accelerometer's norm at the standing start is further than this from
             9.81 m/s², m/s² (``None``: no check; :mod:`~lowerlimb.calibration.rest_gravity`). The
@@ -425,6 +428,7 @@ class CalibrationOptions:
     clock_split_tol_s: float = 0.005
     clock_lowpass_hz: float = 10.0
     clock_passes: int = 3
+    clock_max_residual_growth: float = 1.1
     rest_gravity_warn_mps2: float | None = 0.2
     rest_gravity_correction: bool = False
     thigh_twist: bool = False
@@ -511,6 +515,11 @@ class CalibrationOptions:
                 f"clock_max_offset_s, clock_lowpass_hz and clock_split_tol_s must be > 0 and "
                 f"clock_passes >= 1, got {self.clock_max_offset_s}, {self.clock_lowpass_hz}, "
                 f"{self.clock_split_tol_s}, {self.clock_passes}"
+            )
+        if not self.clock_max_residual_growth >= 1.0:
+            raise InputError(
+                f"clock_max_residual_growth must be >= 1 (1: any growth undoes a step), got "
+                f"{self.clock_max_residual_growth}"
             )
         self._check_thigh_twist()
         if self.centre_form not in CENTRE_FORMS:
