@@ -6,6 +6,7 @@ import json
 import warnings
 from collections import Counter
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -18,6 +19,7 @@ from lowerlimb.calibration.clock_sync import (
     estimate_clock_offsets,
     joint_lag,
     retime,
+    worse_fits,
 )
 from lowerlimb.calibration.excitation import ExcitationWarning
 from lowerlimb.calibration.options import CalibrationOptions
@@ -181,9 +183,65 @@ def test_estimate_on_one_pass_reports_every_joint() -> None:
     assert set(off.to_dict()["joints"]["knee"]) == {"lag_s", "explained", "split_s", "counted"}
 
 
+def _residuals(hip: float, knee_axis: float, ankle: float) -> SimpleNamespace:
+    return SimpleNamespace(
+        hip=SimpleNamespace(rms_residual=hip),
+        knee=SimpleNamespace(axis=SimpleNamespace(rms_residual=knee_axis)),
+        ankle=SimpleNamespace(rms_residual=ankle),
+    )
+
+
+def test_only_the_joints_a_step_moves_are_checked_and_together() -> None:
+    before = _residuals(0.10, 0.03, 0.10)
+    knee_step = {"pelvis": 0.0, "thigh": 0.0, "shank": -0.045, "foot": -0.045}
+    # a shuffling walk with turns: a 45 ms knee "lag" on synchronised sensors, axis residual 8×
+    assert worse_fits(before, _residuals(0.5, 0.28, 0.5), knee_step, 1.1) == pytest.approx({"knee": 28 / 3})
+    # a real offset removed: the residual falls; the hip and ankle were not moved by the step
+    assert worse_fits(before, _residuals(0.5, 0.01, 0.5), knee_step, 1.1) == {}
+    hip_step = {"pelvis": 0.0, "thigh": 0.01, "shank": 0.01, "foot": 0.01}  # only the hip moves
+    assert worse_fits(before, _residuals(0.2, 0.28, 0.5), hip_step, 1.1) == pytest.approx({"hip": 2.0})
+    # a shank re-timed moves the knee and the ankle: soft tissue raised the knee's residual
+    # 1.2× while the ankle's fell 3× (the simulator's artefacts, a real offset): kept
+    shank_step = {"pelvis": 0.0, "thigh": 0.0, "shank": 0.03, "foot": 0.022}
+    assert worse_fits(before, _residuals(0.5, 0.036, 0.033), shank_step, 1.1) == {}
+    both_worse = worse_fits(before, _residuals(0.5, 0.036, 0.12), shank_step, 1.1)
+    assert both_worse == pytest.approx({"knee": 1.2, "ankle": 1.2})
+
+
+def test_a_retiming_that_makes_a_joint_fit_worse_is_undone(monkeypatch) -> None:
+    from lowerlimb.calibration import clock_sync
+    from lowerlimb.calibration.clock_sync import JointLag, synchronise
+
+    lags = {
+        "hip": JointLag(0.0, 0.0, 0.0, False),
+        "knee": JointLag(-0.045, 0.41, 0.0005, True),
+        "ankle": JointLag(0.0, 0.0, 0.0, False),
+    }
+    found = {k: replace(v, counted=False) for k, v in lags.items()}  # the next pass: nothing more
+    trial = cached_simulation("walk", 20.0, 0).trial
+    first = _residuals(0.1, 0.034, 0.1)
+    for retimed_axis, undone in ((0.28, True), (0.012, False)):
+        passes = iter([lags, found, found])
+        monkeypatch.setattr(clock_sync, "estimate_lags", lambda *_, it=passes: next(it))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            out, cal, offsets = synchronise(
+                trial, first, lambda _t, r=retimed_axis: _residuals(0.1, r, 0.1), CalibrationOptions()
+            )
+        warned = any(issubclass(w.category, ClockOffsetWarning) for w in caught)
+        if undone:
+            assert out is trial and cal is first and not offsets.applied and not warned
+            assert offsets.rejected == pytest.approx({"knee": 0.28 / 0.034})
+            assert offsets.to_dict()["rejected"] == offsets.rejected
+        else:
+            assert offsets.applied and offsets.shift_s["shank"] == -0.045 and warned
+            assert cal.knee.axis.rms_residual == 0.012 and offsets.rejected == {}
+
+
 @pytest.mark.parametrize(
     "bad",
     [
+        {"clock_max_residual_growth": 0.9},
         {"clock_min_explained": 0.0},
         {"clock_min_explained": 1.5},
         {"clock_max_offset_s": 0.0},
@@ -225,4 +283,6 @@ def test_cli_records_the_clock_search_and_can_skip_it(tmp_path) -> None:
         if flag:
             assert rec == {}
         else:
-            assert set(rec) == {"shift_s", "joints", "passes"} and not any(rec["shift_s"].values())
+            assert set(rec) == {"shift_s", "joints", "passes", "rejected"} and not any(
+                rec["shift_s"].values()
+            )

@@ -137,7 +137,27 @@ def test_an_implausible_widened_leg_is_refitted_in_the_coherent_band(capped_leg)
     assert others == sorted(str(w.message) for w in edge_caught)
     band = {"factor": 1.5, "widened": False, "reason": cal.fit_band.reason}
     band["capped"] = list(cal.fit_band.capped)
+    band["uncapped"] = False  # nor is the fit without caps, implausible under such bounds too
     assert cal.to_dict()["fit_band"] == band and cal.fit_band.capped and cal.coherent_fit is None
+
+
+def test_a_leg_implausible_in_both_capped_bands_is_fitted_without_the_caps() -> None:
+    """A shuffling walk with turns about: rotation about the hip makes the pelvis and thigh
+    sensors' acceleration norms incoherent though the sensors are rigid; the caps at the 2 Hz
+    floor left the thigh 229 mm long, and the leg fell back on de Leva. Fitted without the
+    caps, its segments are the truth's."""
+    from lowerlimb.simulation.turns import TurnParams
+
+    sim = simulate_bilateral(30.0, 203, pace="shuffle", turns=TurnParams())
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        cal = calibrate_leg(sim.trial.leg("left"))
+    assert cal.fit_band.uncapped and not cal.fit_band.widened
+    assert cal.fit_band.reason is not None and "thigh" in cal.fit_band.reason
+    assert np.all(np.abs(_lengths_error_mm(cal, sim.truth["legs"]["left"])) < 15.0)
+    said = [w for w in caught if "without the rigid-band caps" in str(w.message)]
+    assert len(said) == 1 and said[0].message.args[0] in cal.warnings
+    assert LegCalibration.from_dict(cal.to_dict()).fit_band == cal.fit_band
 
 
 def test_a_trial_without_a_standing_start_is_fitted_in_the_coherent_band_only(capped_leg) -> None:

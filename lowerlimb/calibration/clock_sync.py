@@ -306,23 +306,27 @@ def joint_residual(calibration: LegCalibration, joint: str) -> float:
 def worse_fits(
     before: LegCalibration, after: LegCalibration, step: dict[str, float], max_growth: float
 ) -> dict[str, float]:
-    """``{joint: residual after / before}`` of the joints a re-timing step moved that fit worse.
+    """``{joint: residual after / before}`` of the joints a re-timing step moved, when they fit worse.
 
-    A joint is moved when the step changes its child's timing against its parent's; it fits
-    worse when its residual (:func:`joint_residual`) grows by more than ``max_growth``×. A
-    real offset removed lowers those residuals (simulated offsets of σ 10 ms: the knee's axis
-    residual 0.034-0.071 → 0.010-0.014 rad/s); a lag that lined up soft tissue or impacts on
-    synchronised sensors raises them (a shuffling walk with turns: knee lags of 45 ms, the
-    axis residual 0.034 → 0.28 rad/s and both legs' segments 40 % short).
+    A joint is moved when the step changes its child's timing against its parent's. They fit
+    worse when the geometric mean of their residual ratios (:func:`joint_residual`) exceeds
+    ``max_growth``; otherwise the result is empty. A real offset removed lowers those
+    residuals on the whole (simulated offsets of σ 10 ms: the knee's axis residual
+    0.034–0.071 → 0.010–0.014 rad/s; under the simulator's soft-tissue artefacts one knee's
+    rose 1.2× while the ankle moved with it fell 3×); a lag that lined up soft tissue or
+    impacts on synchronised sensors raises them (a shuffling walk with turns: knee lags of
+    45 ms, the axis residual 8×, and both legs' segments 40 % short).
     """
-    out: dict[str, float] = {}
+    ratios: dict[str, float] = {}
     for joint, parent, child in _CHAIN:
         if step.get(child, 0.0) == step.get(parent, 0.0):
             continue
         r0, r1 = joint_residual(before, joint), joint_residual(after, joint)
-        if np.isfinite(r0) and np.isfinite(r1) and r0 > 0.0 and r1 > max_growth * r0:
-            out[joint] = r1 / r0
-    return out
+        if np.isfinite(r0) and np.isfinite(r1) and r0 > 0.0 and r1 > 0.0:
+            ratios[joint] = r1 / r0
+    if not ratios or float(np.exp(np.mean(np.log(list(ratios.values()))))) <= max_growth:
+        return {}
+    return ratios
 
 
 def synchronise(

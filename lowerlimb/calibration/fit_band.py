@@ -57,6 +57,15 @@ cut mid-stride kept,
 widened, a plausible right leg with its thigh at +28 … −16 mm and its shank at +17 … +21 mm
 against Plug-in Gait, where the coherent band gives +58 … +22 and −5 … −22 mm
 (``benchmarks/results/cut_start.md``, three cuts), no clear gain.
+
+The caps can also be wrong the other way. They end a joint's band where the two sensors'
+acceleration norms stop being coherent, which soft tissue does, but so does rigid rotation
+about the hip: the pelvis and the thigh sensor see different centripetal and tangential
+accelerations. A simulated shuffling walk with turns about (seed 203) had both hip pairs
+capped at the 2 Hz floor, both legs implausible in both bands (thighs 144–229 mm), and fell
+back on de Leva. So where the coherent and the widened fit are both implausible and the knee
+shows rigid sensors, the leg is fitted once more without the caps and kept if plausible
+(:attr:`FitBand.uncapped`; there the hips and ankles came out 1–3 mm from the truth).
 """
 
 from __future__ import annotations

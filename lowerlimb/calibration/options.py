@@ -299,9 +299,10 @@ class CalibrationOptions:
         clock_split_tol_s: ... and when the lags of the trial's two halves agree within this, s.
         clock_lowpass_hz: low-pass of those norms before they are compared, Hz.
         clock_passes: at most this many estimate-and-recalibrate passes.
-        clock_max_residual_growth: a re-timing step is undone when a joint it moved fits
-            worse by more than this factor (its residual: the knee's hinge axis, the hip's
-            and ankle's centre; :func:`~lowerlimb.calibration.clock_sync.worse_fits`).
+        clock_max_residual_growth: a re-timing step is undone when the joints it moved fit
+            worse by more than this factor (the geometric mean of their residual ratios: the
+            knee's hinge axis, the hip's and ankle's centre;
+            :func:`~lowerlimb.calibration.clock_sync.worse_fits`).
         rest_gravity_warn_mps2: warn (:class:`~lowerlimb.calibration.rest_gravity.AccelerometerOffsetWarning`)
             when an accelerometer's norm at the standing start is further than this from
             9.81 m/s², m/s² (``None``: no check; :mod:`~lowerlimb.calibration.rest_gravity`). The
