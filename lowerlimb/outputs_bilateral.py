@@ -227,13 +227,14 @@ def _gait_section(result: BilateralResult) -> str:
     """Left and right gait-cycle curves overlaid and the parameter table with symmetry indices."""
     from .conventions import ANGLE_COLUMNS
     from .viz.gait_curves import gait_report_section
+    from .viz.turns_table import turns_table_html
 
     events = result.gait.events
     contacts = {e.side: list(e.initial_contact_s) for e in (events.sides() if events else [])}
     if sum(len(c) for c in contacts.values()) < 4:
         return ""
     gait = result.gait.to_dict()
-    return gait_report_section(
+    section = gait_report_section(
         result.trial.time_s,
         {side: np.degrees(result.legs[side].angles_rad) for side in contacts},
         contacts,
@@ -242,6 +243,7 @@ def _gait_section(result: BilateralResult) -> str:
         # numbers only: not the flags (``anchored``), texts or per-side and per-stride lists
         overall={k: v for k, v in gait.items() if k not in SIDES and not isinstance(v, (list, str, bool))},
     )
+    return section + turns_table_html((gait.get("turns") or {}).get("list", []))
 
 
 def _write_report(result: BilateralResult, directory: Path, calibration: dict[str, object]) -> None:

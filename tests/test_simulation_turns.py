@@ -8,6 +8,7 @@ angles through the turns as on a bending walk.
 
 from __future__ import annotations
 
+import json
 from functools import lru_cache
 
 import numpy as np
@@ -146,6 +147,14 @@ def test_the_command_line_simulates_turns_for_two_legs_only(tmp_path, capsys) ->
     out = tmp_path / "turns.csv"
     assert main(["simulate", "--side", "both", "--duration", "16", "--turns", "--out", str(out)]) == 0
     assert "straight passes and turns about" in capsys.readouterr().out and out.is_file()
+    # calibrate reports the walker's turn in gait.json, on the terminal and in the report
+    assert main(["calibrate", str(out), "--out", str(tmp_path / "cal")]) == 0
+    said = "".join(capsys.readouterr())
+    turns = json.loads((tmp_path / "cal" / "gait.json").read_text())["turns"]
+    assert turns["count"] == 1 and abs(turns["angle_deg"]["mean"] - 180.0) < 15.0
+    assert "turns  1:" in said
+    report = (tmp_path / "cal" / "report.html").read_text()
+    assert "id='turns-table'" in report and f"{turns['list'][0]['steps']}</td></tr>" in report
     for argv, says in (
         (["--turns"], "--turns is a seven-IMU walk option; add --side both"),
         (["--side", "both", "--turns", "--stops", "1"], "--turns walks have no --stops and no --treadmill"),
