@@ -17,8 +17,9 @@ Definitions (events from :mod:`lowerlimb.gait.events`, positions from
 
 A stride is *turning* when the foot's heading (yaw of its resting orientation)
 changes by more than :attr:`GaitParams.turn_heading_deg` between its two contacts, or
-when the foot pivots on the floor (turns by more than :attr:`GaitParams.stance_turn_deg`
-during the stance) at either contact; turning strides are summarised apart from the
+when the foot pivots on the floor at either contact (turns about the vertical by more
+than :attr:`GaitParams.stance_turn_deg` between touching down and the end of the stationary
+period that gives its position); turning strides are summarised apart from the
 straight ones. A step is straight when the other leg's stride P → N is and the foot did
 not pivot at IC_k.
 
