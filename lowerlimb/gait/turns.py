@@ -32,6 +32,7 @@ from numpy.typing import ArrayLike
 from scipy.ndimage import uniform_filter1d
 
 from lowerlimb.conventions import FloatArray, quat_rotate
+from lowerlimb.gait._signal import runs
 from lowerlimb.gait.params import GaitParams
 
 __all__ = ["Turn", "Turns", "detect_turns", "vertical_rate"]
@@ -133,20 +134,14 @@ def vertical_rate(gyr: ArrayLike, quat_wxyz: ArrayLike) -> FloatArray:
     return np.asarray(quat_rotate(np.asarray(quat_wxyz, dtype=float), np.asarray(gyr, dtype=float))[:, 2])
 
 
-def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """Half-open index ranges ``[a, b)`` where ``mask`` is true."""
-    d = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
-    return list(zip(np.flatnonzero(d == 1).tolist(), np.flatnonzero(d == -1).tolist(), strict=True))
-
-
 def _candidates(smooth: FloatArray, rate_hz: float, p: GaitParams) -> list[tuple[int, int, int]]:
     """``(a, b, sign)`` runs of one sign above the edge rate, peaking above the peak rate, merged."""
     edge, peak = np.deg2rad(p.pelvis_turn_edge_dps), np.deg2rad(p.pelvis_turn_peak_dps)
     out: list[tuple[int, int, int]] = []
     for sign in (1, -1):
-        runs = [(a, b) for a, b in _runs(sign * smooth > edge) if np.max(sign * smooth[a:b]) > peak]
+        strong = [(a, b) for a, b in runs(sign * smooth > edge) if np.max(sign * smooth[a:b]) > peak]
         merged: list[tuple[int, int]] = []
-        for a, b in runs:
+        for a, b in strong:
             if merged and (a - merged[-1][1]) / rate_hz < p.pelvis_turn_merge_s:
                 merged[-1] = (merged[-1][0], b)
             else:
