@@ -15,7 +15,10 @@ goes beyond it. Each row cuts every sensor's accelerometer and/or gyro of a tria
   hip flexion against Vicon);
 - *left out*: the default, the cut samples (and 50 ms around them) left out of the hip and
   ankle fits (``CalibrationOptions.saturation_exclusion``); *fitted*: with
-  ``saturation_exclusion=False``.
+  ``saturation_exclusion=False``;
+- *restored*: the default, a cut foot accelerometer's lost force given back swing by swing
+  from the zero-velocity updates (:mod:`lowerlimb.gait.cut_force`); *not restored*: with
+  ``GaitParams(cut_restore=False)``.
 
 Sources: seven-IMU simulated walks (``simulate_bilateral``, seeds 201–203, 60 s, normal pace)
 and the real walk (``gait/``, Xsens MTw, which record at ±16 g and ±2000 °/s; its largest
@@ -39,6 +42,7 @@ import numpy as np
 from lowerlimb.bilateral.process import process_bilateral_trial
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.conventions import GRAVITY_MPS2, SIDES
+from lowerlimb.gait import GaitParams
 from lowerlimb.io import load_xsens
 from lowerlimb.io.bilateral_trial import BilateralTrial
 from lowerlimb.io.saturation import trial_saturation
@@ -50,19 +54,21 @@ from _realwalk import IDS, load_vicon, raw_dir  # noqa: E402
 from _results import real_data_main  # noqa: E402
 
 SIM_SEEDS = (201, 202, 203)
-#: (label, accelerometer range in g, gyro range in °/s, cut samples left out); 0: not cut.
-ROWS: tuple[tuple[str, float, float, bool], ...] = (
-    ("as recorded", 0, 0, True),
-    ("±2 g", 2, 0, True),
-    ("±2 g, fitted", 2, 0, False),
-    ("±4 g", 4, 0, True),
-    ("±8 g", 8, 0, True),
-    ("±250 °/s", 0, 250, True),
-    ("±250 °/s, fitted", 0, 250, False),
-    ("±500 °/s", 0, 500, True),
-    ("±1000 °/s", 0, 1000, True),
-    ("±2 g, ±250 °/s (MPU-6050 default)", 2, 250, True),
-    ("±4 g, ±500 °/s", 4, 500, True),
+#: (label, accelerometer range in g, gyro range in °/s, cut samples left out, feet's cut force
+#: restored); 0: not cut.
+ROWS: tuple[tuple[str, float, float, bool, bool], ...] = (
+    ("as recorded", 0, 0, True, True),
+    ("±2 g", 2, 0, True, True),
+    ("±2 g, not restored", 2, 0, True, False),
+    ("±2 g, fitted", 2, 0, False, True),
+    ("±4 g", 4, 0, True, True),
+    ("±8 g", 8, 0, True, True),
+    ("±250 °/s", 0, 250, True, True),
+    ("±250 °/s, fitted", 0, 250, False, True),
+    ("±500 °/s", 0, 500, True, True),
+    ("±1000 °/s", 0, 1000, True, True),
+    ("±2 g, ±250 °/s (MPU-6050 default)", 2, 250, True, True),
+    ("±4 g, ±500 °/s", 4, 500, True, True),
 )
 
 
@@ -102,14 +108,19 @@ def _found(trial: BilateralTrial, limits: dict[str, float], record: dict[str, An
     return cut_trial
 
 
-def _sim_row(gait: ModuleType, acc_g: float, gyr_dps: float, left_out: bool) -> dict[str, Any]:
+def _sim_row(gait: ModuleType, acc_g: float, gyr_dps: float, left_out: bool, restore: bool) -> dict[str, Any]:
     limits = _limits(acc_g, gyr_dps)
     options = CalibrationOptions(saturation_exclusion=left_out)
+    gait_params = GaitParams(cut_restore=restore)
     trials, checks = [], []
     for seed in SIM_SEEDS:
         record: dict[str, Any] = {}
         transform: Callable[[Any], Any] = lambda tr, rec=record: _found(tr, limits, rec)  # noqa: E731
-        trials.append(gait.score_simulation(seed, 60.0, calibration_options=options, transform=transform))
+        trials.append(
+            gait.score_simulation(
+                seed, 60.0, calibration_options=options, gait_params=gait_params, transform=transform
+            )
+        )
         checks.append(record)
     pooled = gait.summarise_simulation(trials)
     worst = max(max(v.values()) for v in pooled["angle_rmse_deg"]["worst"].values())
@@ -132,15 +143,17 @@ def _real_row(
     vicon: dict[str, Any],
     bg: ModuleType,
     ge: ModuleType,
-    row: tuple[str, float, float, bool],
+    row: tuple[str, float, float, bool, bool],
 ) -> dict[str, Any]:
-    _, acc_g, gyr_dps, left_out = row
+    _, acc_g, gyr_dps, left_out, restore = row
     record: dict[str, Any] = {}
     trial = _found(base, _limits(acc_g, gyr_dps), record)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         res = process_bilateral_trial(
-            trial, calibration_options=CalibrationOptions(saturation_exclusion=left_out)
+            trial,
+            calibration_options=CalibrationOptions(saturation_exclusion=left_out),
+            gait_params=GaitParams(cut_restore=restore),
         )
     legs = bg.score_legs(res, vicon)
     strides = bg.score_strides(res, vicon, ge)
@@ -168,7 +181,7 @@ def run(data: Path) -> dict[str, Any]:
     vicon = load_vicon(data)
     rows = []
     for row in ROWS:
-        label, acc_g, gyr_dps, left_out = row
+        label, acc_g, gyr_dps, left_out, restore = row
         print(f"saturation: {label}", file=sys.stderr)
         rows.append(
             {
@@ -176,7 +189,8 @@ def run(data: Path) -> dict[str, Any]:
                 "acc_range_g": acc_g,
                 "gyr_range_dps": gyr_dps,
                 "left_out": left_out,
-                "simulated": _sim_row(gait, acc_g, gyr_dps, left_out),
+                "restored": restore,
+                "simulated": _sim_row(gait, acc_g, gyr_dps, left_out, restore),
                 "real": _real_row(base, vicon, bg, ge, row),
             }
         )
@@ -219,7 +233,10 @@ def markdown(res: dict[str, Any]) -> str:
         "accelerometer and/or gyro cut at the range of the row. *found / beyond*: sensor signals the "
         "input check reports cut, against those that go beyond the range in at least three places. "
         "*fitted*: the cut samples kept in the hip and ankle fits (`saturation_exclusion=False`); "
-        "every other row leaves them out (the default).",
+        "every other row leaves them out (the default). *not restored*: the feet's cut accelerometers "
+        "integrated as recorded (`GaitParams(cut_restore=False)`); every other row gives each swing "
+        "the force its cut runs lost, sized by its end velocity (`lowerlimb.gait.cut_force`, the "
+        "default).",
         "",
         f"## Simulated seven-IMU walks (seeds {seeds}, 60 s), against the truth",
         "",

@@ -47,6 +47,7 @@ from ..gait import (
 )
 from ..gait.placement import mean_walking_direction
 from ..gait.turns import Turns, detect_turns, vertical_rate
+from ..io.saturation import find_saturation
 from ..pipeline import TrialResult
 from .chain_steps import chain_steps
 
@@ -102,7 +103,20 @@ class BilateralGait:
             }
         d["anchor"] = None if self.anchor is None else asdict(self.anchor) | {"source": "calibrated chain"}
         d["turns"] = None if self.turns is None else self.turns.to_dict()
+        d["cut_force_restored"] = {s: _restored(t) for s, t in self.trajectories.items()} or None
         return _json_safe(d)
+
+
+def _restored(track: FootTrajectory) -> dict[str, Any] | None:
+    """What a cut foot accelerometer got back (:mod:`lowerlimb.gait.cut_force`), or ``None`` without a cut."""
+    v = track.restored_mps[track.restored_mps > 0]
+    if v.size == 0:
+        return None
+    return {
+        "swings": int(v.size),
+        "velocity_mps_median": float(np.median(v)),
+        "velocity_mps_max": float(v.max()),
+    }
 
 
 def _json_safe(x: Any) -> Any:
@@ -222,6 +236,7 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
     trajs: dict[str, FootTrajectory] = {}
     for s, ev in (("left", events.left), ("right", events.right)):
         assert ev is not None and ev.stationary is not None
+        cut = find_saturation(legs[s].trial.acc["foot"], "acc") if p.cut_restore else None
         tr = integrate_foot(
             gyr[s, "foot"],
             legs[s].trial.acc["foot"],
@@ -229,6 +244,7 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
             ev.stationary,
             quat_wxyz=legs[s].motion.sensor_quat_wxyz["foot"],
             params=p,
+            cut_axes=None if cut is None else cut.axes,
         )
         trajs[s] = replace(tr, position_m=tr.point_m(offsets[s]))
     p_ankle = replace(p, sensor_to_ankle_m=(0.0, 0.0, 0.0))  # the trajectories are the ankle centres

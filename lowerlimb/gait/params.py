@@ -69,6 +69,12 @@ class GaitParams:
         level_at_stance: Pin the foot's tilt to gravity at every stationary period before
             the strapdown (:func:`~lowerlimb.gait.trajectory.levelled_at_stance`): the still
             foot's accelerometer reads gravity alone, where the filter's tilt lags a gyro bias.
+        cut_restore: Give a foot accelerometer cut at its range the force it lost in each
+            swing before the strapdown (:mod:`lowerlimb.gait.cut_force`); ``False``: integrate
+            the cut signal as recorded.
+        cut_restore_ridge_s2: Ridge ``λ`` of the force restored to a foot accelerometer cut
+            at its range, from each swing's end velocity (:mod:`lowerlimb.gait.cut_force`),
+            s² (10⁻⁴; 0 let one simulated swing's many cut runs put its stride 52 % off).
         walking_gyro_rps: A sample counts as walking for the principal-axis fit when
             the smoothed shank gyro norm exceeds this, rad/s.
         shoe_window_s: Window of the SHOE detector (Skog et al. 2010, eq. 8), s.
@@ -166,6 +172,8 @@ class GaitParams:
     unloading_min_mps2: float = 3.0
     unloading_max_offset: float = 0.25
     level_at_stance: bool = True
+    cut_restore: bool = True
+    cut_restore_ridge_s2: float = 1e-4
     min_event_rate_hz: float | None = 100.0
     walking_gyro_rps: float = 1.0
     shoe_window_s: float = 0.05
@@ -240,6 +248,8 @@ class GaitParams:
             raise InputError(
                 f"straight_heading_spread must be within [0, 1], got {self.straight_heading_spread}"
             )
+        if not 0 <= self.cut_restore_ridge_s2 < np.inf:
+            raise InputError(f"cut_restore_ridge_s2 must be >= 0 s², got {self.cut_restore_ridge_s2}")
         if not self.chain_stance_margin_s >= 0:
             raise InputError(f"chain_stance_margin_s must be >= 0 s, got {self.chain_stance_margin_s}")
 

@@ -36,7 +36,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -116,6 +116,9 @@ class Saturation:
         level: the limit, m/s² or rad/s (the largest of the cut axis-signs' readings).
         at_limit: (N,) ``True`` where any cut axis-sign sits at its limit.
         episodes: separate runs at the limit.
+        axes: (N, 3) ``+1`` where an axis sits at its positive limit, ``-1`` at its negative
+            one, ``0`` elsewhere (sensor frame); what a repair needs to know of the cut
+            (:mod:`lowerlimb.gait.cut_force`). Empty (0, 3) when not given.
     """
 
     sensor: str
@@ -123,6 +126,7 @@ class Saturation:
     level: float
     at_limit: NDArray[np.bool_]
     episodes: int
+    axes: NDArray[np.int8] = field(default_factory=lambda: np.zeros((0, 3), dtype=np.int8))
 
     @property
     def samples(self) -> int:
@@ -205,16 +209,17 @@ def find_saturation(
         return None
     floor = params.min_level_acc_mps2 if kind == "acc" else params.min_level_gyr_rps
     floor = max(floor, params.min_level_fraction * float(np.abs(x).max()))
-    levels, at_limit = [], np.zeros(x.shape[0], dtype=bool)
+    levels, axes = [], np.zeros(x.shape, dtype=np.int8)
     for axis in range(3):
-        for sign in (1.0, -1.0):
+        for sign in (1, -1):
             found = _axis_sign_limit(sign * x[:, axis], params)
             if found is not None and found[0] >= floor:
                 levels.append(found[0])
-                at_limit |= found[1]
+                axes[found[1], axis] = sign
     if not levels:
         return None
-    return Saturation(sensor, kind, max(levels), at_limit, _runs(at_limit))
+    at_limit: NDArray[np.bool_] = np.asarray(axes.any(axis=1), dtype=bool)
+    return Saturation(sensor, kind, max(levels), at_limit, _runs(at_limit), axes)
 
 
 def trial_saturation(
