@@ -41,8 +41,11 @@ from .calibration.thigh_twist import (
 )
 from .conventions import SENSORS, FloatArray, quat_from_matrix
 from .errors import InputError
+from .gait.cut_rate import RateRestore, restore_cut_gyro
+from .gait.params import GaitParams
+from .gait.stationary import detect_stationary
 from .io.held_samples import warn_held_samples
-from .io.saturation import trial_saturation, warn_saturation
+from .io.saturation import Saturation, find_saturation, trial_saturation, warn_saturation
 from .io.trial import ImuTrial
 from .methods import ORIENTATION_FILTERS
 from .model.calibrated import calibrated_geometry, chain_positions
@@ -101,6 +104,11 @@ class TrialResult:
             (inclination of both passes, heading of the forward one;
             :func:`~lowerlimb.orientation.estimate_orientation`'s ``smooth``), or ``None``
             (``smooth_orientation=False``: forward only).
+        foot_gyro_cut: the foot gyro found cut at its range (:mod:`lowerlimb.io.saturation`), or
+            ``None``.
+        foot_gyro_restore: its swings restored between the foot's rests
+            (:mod:`lowerlimb.gait.cut_rate`; ``trial`` holds the restored gyro), or ``None``
+            (not cut, or ``GaitParams.cut_restore`` off).
     """
 
     trial: ImuTrial
@@ -116,6 +124,8 @@ class TrialResult:
     calibration_reused: bool = False
     magnetometer_note: str = ""
     quat_smoothed_wxyz: dict[str, FloatArray] | None = None
+    foot_gyro_cut: Saturation | None = None
+    foot_gyro_restore: RateRestore | None = None
 
     @property
     def angles_rad(self) -> FloatArray:
@@ -454,6 +464,21 @@ class _Stopwatch:
             print(f"  {name:<22s} {shown}", file=sys.stderr)
 
 
+def _restored_foot_gyro(
+    trial: ImuTrial, cut: Saturation | None, params: GaitParams
+) -> tuple[ImuTrial, RateRestore | None]:
+    """The trial with a cut foot gyro's swings restored between its rests (:mod:`.gait.cut_rate`)."""
+    if cut is None or not params.cut_restore:
+        return trial, None
+    gyr, acc = trial.gyr["foot"], trial.acc["foot"]
+    cut = find_saturation(gyr, "gyr", "foot")  # again: the clock search may have re-timed the foot
+    if cut is None:
+        return trial, None
+    rests = detect_stationary(gyr, acc, trial.rate_hz, params)
+    restored = restore_cut_gyro(gyr, acc, trial.rate_hz, cut.axes, rests, params)
+    return replace(trial, gyr=trial.gyr | {"foot": restored.gyr_rps}), restored
+
+
 def process_trial(
     trial: ImuTrial,
     *,
@@ -469,6 +494,7 @@ def process_trial(
     side_check: bool = True,
     positions: bool = True,
     smooth_orientation: bool = True,
+    gait_params: GaitParams | None = None,
 ) -> TrialResult:
     """Calibrate a trial and compute its joint angles and positions.
 
@@ -496,6 +522,9 @@ def process_trial(
         smooth_orientation: take each sensor's inclination from a forward and a backward
             pass of its filter (offline; the headings and their joint corrections stay the
             forward pass's; docs/methods.md); ``False``: forward only, as in real time.
+        gait_params: the foot's rests and what a foot gyro cut at its range gets back between
+            them (``cut_restore``, ``cut_rate_*``; :mod:`lowerlimb.gait.cut_rate`); defaults:
+            :class:`~lowerlimb.gait.GaitParams`.
 
     Raises:
         InputError: a calibration of the other leg, swapped sensor columns
@@ -512,7 +541,9 @@ def process_trial(
             lower rate held to the table's (:mod:`lowerlimb.io.held_samples`).
     """
     clock = _Stopwatch(progress)
-    warn_saturation(trial_saturation(trial.acc, trial.gyr))
+    found = trial_saturation(trial.acc, trial.gyr)
+    warn_saturation(found)
+    foot_cut = next((s for s in found if s.sensor == "foot" and s.signal == "gyr"), None)
     warn_held_samples(trial.acc, trial.gyr, trial.rate_hz)
     still = trial.still_period()  # detected once, handed on
     reference = trial.reference_samples(still)
@@ -522,6 +553,8 @@ def process_trial(
     cal_options = replace(calibration_options or CalibrationOptions(), prior_stature_m=height_m)
     _warn_rest_gravity(trial, still, cal_options)
     trial, calib = _calibrate_synchronised(trial, method, still, calibration, cal_options)
+    # after the calibration, which leaves the cut samples out of its centre fits instead
+    trial, restore = _restored_foot_gyro(trial, foot_cut, gait_params or GaitParams())
     up = {s: trial.acc[s][reference].mean(axis=0) for s in ("thigh", "shank")}
     calib = with_plausible_lengths(calib, up, height_m=height_m)
     clock.stop("joint calibration", "" if calibration is None else "reused, not estimated")
@@ -599,4 +632,6 @@ def process_trial(
         calibration is not None,
         orientations.magnetometer_note,
         orientations.smoothed_wxyz,
+        foot_cut,
+        restore,
     )

@@ -9,6 +9,7 @@
 
 from lowerlimb.bilateral.gait import (
     BilateralGait,
+    CutFootGyroWarning,
     NoGaitWarning,
     UnanchoredFeetWarning,
     analyse_gait,
@@ -21,6 +22,7 @@ __all__ = [
     "BilateralGait",
     "BilateralResult",
     "BilateralSideError",
+    "CutFootGyroWarning",
     "HipCheck",
     "HipParams",
     "HipSpacingWarning",

@@ -51,11 +51,22 @@ from ..io.saturation import find_saturation
 from ..pipeline import TrialResult
 from .chain_steps import chain_steps
 
-__all__ = ["BilateralGait", "UnanchoredFeetWarning", "NoGaitWarning", "analyse_gait", "chain_anchor"]
+__all__ = [
+    "BilateralGait",
+    "CutFootGyroWarning",
+    "NoGaitWarning",
+    "UnanchoredFeetWarning",
+    "analyse_gait",
+    "chain_anchor",
+]
 
 
 class NoGaitWarning(UserWarning):
     """The trial has no walking: ``events.csv`` is empty and ``gait.json`` holds nulls."""
+
+
+class CutFootGyroWarning(UserWarning):
+    """A foot gyro is cut at its range: step length and width are ``null``."""
 
 
 class UnanchoredFeetWarning(UserWarning):
@@ -75,6 +86,8 @@ class BilateralGait:
         note: Why there are no parameters, or ``""``.
         turns: The walker's turns from the pelvis sensor (:mod:`lowerlimb.gait.turns`), or
             ``None`` without events.
+        unplaced: why the feet were not placed against each other although they could be
+            anchored (a cut foot gyro), or ``""``.
     """
 
     events: GaitEvents | None
@@ -84,6 +97,7 @@ class BilateralGait:
     trajectories: dict[str, FootTrajectory] = field(default_factory=dict)
     note: str = ""
     turns: Turns | None = None
+    unplaced: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         """The docs/formats.md ``gait.json`` content (NaN as ``None``), with the anchor and offsets."""
@@ -104,6 +118,7 @@ class BilateralGait:
         d["anchor"] = None if self.anchor is None else asdict(self.anchor) | {"source": "calibrated chain"}
         d["turns"] = None if self.turns is None else self.turns.to_dict()
         d["cut_force_restored"] = {s: _restored(t) for s, t in self.trajectories.items()} or None
+        d["steps_unplaced"] = self.unplaced or None
         return _json_safe(d)
 
 
@@ -248,8 +263,11 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
         )
         trajs[s] = replace(tr, position_m=tr.point_m(offsets[s]))
     p_ankle = replace(p, sensor_to_ankle_m=(0.0, 0.0, 0.0))  # the trajectories are the ankle centres
-    anchor = chain_anchor(legs, events, trajs, p_ankle)
-    if anchor is None:
+    unplaced = _cut_foot_gyros(legs)
+    anchor = None if unplaced else chain_anchor(legs, events, trajs, p_ankle)
+    if unplaced:
+        warnings.warn(unplaced, CutFootGyroWarning, stacklevel=2)
+    elif anchor is None:
         warnings.warn(
             "step length and step width are null: the two feet never stand still together before "
             "the first step, so the calibrated chain cannot place one against the other; start the "
@@ -258,13 +276,34 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
             stacklevel=2,
         )
     chain = [c for c in (chain_steps(legs, events, p_ankle, side) for side in SIDES) if c is not None]
+    chain = [] if unplaced else chain
     parameters = compute_gait_parameters(
         events, trajs["left"], trajs["right"], anchor=anchor, chain=chain, params=p_ankle
     )
     t0 = float(trial.time_s[0])
     shifted = GaitEvents(left=_shift(events.left, t0), right=_shift(events.right, t0), extras=events.extras)
     turns = walker_turns(legs["left"], shifted, p)
-    return BilateralGait(shifted, parameters, anchor, offsets, trajs, turns=turns)
+    return BilateralGait(shifted, parameters, anchor, offsets, trajs, turns=turns, unplaced=unplaced)
+
+
+def _cut_foot_gyros(legs: dict[str, TrialResult]) -> str:
+    """Why the feet cannot be placed against each other when a foot gyro is cut, or ``""``.
+
+    A foot gyro cut at its range loses rotation in the swings; what it loses about gravity
+    leaves no trace in the foot's tilt at its rests, so even restored
+    (:mod:`lowerlimb.gait.cut_rate`) the foot's heading drifts by what it lost at each turn
+    and the two tracks turn against each other (the real walk cut at ±250 °/s: step width
+    130 mm off as cut, 607 restored, 13 uncut).
+    """
+    cut = {s: r.foot_gyro_cut for s, r in legs.items() if r.foot_gyro_cut is not None}
+    if not cut:
+        return ""
+    said = ", ".join(f"{s} (±{math.degrees(c.level):.0f} °/s)" for s, c in cut.items())
+    return (
+        f"step length and step width are null: the foot gyro of the {said} leg is cut at its range, "
+        "so its heading is lost in the swings and the feet cannot be placed against each other "
+        "(stride lengths keep the restored swings); record the feet at ±1000 °/s or more"
+    )
 
 
 def walker_turns(leg: TrialResult, events: GaitEvents, params: GaitParams) -> Turns:

@@ -409,6 +409,7 @@ def process_bilateral_trial(
         "calibration_options": calibration_options,
         "side_check": False,  # two legs: the pair of hips decides (_check_pair_sides)
         "positions": not one_pelvis,  # the one-pelvis stage recomputes them
+        "gait_params": gait_params,
     }
     legs: dict[str, TrialResult] = {}
     caught: dict[str, list[warnings.WarningMessage]] = {}

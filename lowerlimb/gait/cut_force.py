@@ -53,7 +53,7 @@ from scipy.optimize import nnls
 from lowerlimb.conventions import FloatArray, quat_rotate
 from lowerlimb.gait._signal import runs
 
-__all__ = ["SwingRestore", "restore_swing"]
+__all__ = ["SwingRestore", "edge_height", "restore_swing"]
 
 
 @dataclass(frozen=True)
@@ -80,7 +80,7 @@ def _trapezoid_weights(m: int, dt: float) -> FloatArray:
     return w
 
 
-def _edge_height(x: FloatArray, a: int, b: int, sign: int, rate_hz: float) -> float:
+def edge_height(x: FloatArray, a: int, b: int, sign: int, rate_hz: float) -> float:
     """The hump height the signal's slopes into and out of the run ``[a, b)`` suggest, m/s².
 
     A half-sine of height ``h`` over ``T`` seconds leaves its ends at a slope of ``π h / T``.
@@ -108,7 +108,7 @@ def _humps(
                 local[:, axis] = sign * np.sin(np.pi * (np.arange(n) + 0.5) / n)
                 spans.append((a, b))
                 humps.append(np.asarray(quat_rotate(quat[a:b], local), dtype=float))
-                prior.append(_edge_height(acc[:, axis], a, b, sign, rate_hz))
+                prior.append(edge_height(acc[:, axis], a, b, sign, rate_hz))
     return spans, humps, np.asarray(prior)
 
 

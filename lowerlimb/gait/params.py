@@ -70,11 +70,19 @@ class GaitParams:
             the strapdown (:func:`~lowerlimb.gait.trajectory.levelled_at_stance`): the still
             foot's accelerometer reads gravity alone, where the filter's tilt lags a gyro bias.
         cut_restore: Give a foot accelerometer cut at its range the force it lost in each
-            swing before the strapdown (:mod:`lowerlimb.gait.cut_force`); ``False``: integrate
-            the cut signal as recorded.
+            swing before the strapdown (:mod:`lowerlimb.gait.cut_force`), and a foot gyro cut
+            at its range the rotation it lost, before everything else
+            (:mod:`lowerlimb.gait.cut_rate`); ``False``: use the cut signals as recorded.
         cut_restore_ridge_s2: Ridge ``λ`` of the force restored to a foot accelerometer cut
             at its range, from each swing's end velocity (:mod:`lowerlimb.gait.cut_force`),
             s² (10⁻⁴; 0 let one simulated swing's many cut runs put its stride 52 % off).
+        cut_rate_tilt_sd_rad: SD of the foot's tilt at rest from its accelerometer, the weight of
+            the tilt equations of a cut gyro's swing (:mod:`lowerlimb.gait.cut_rate`), rad
+            (0.03: 1.7°).
+        cut_rate_prior_fraction: SD of a cut gyro run's prior height as a fraction of it.
+        cut_rate_prior_min_rps: ... and at least this, rad/s.
+        cut_rate_rest_s: The foot's gravity direction at a rest is the mean of its
+            accelerometer over this long at the rest's end next to the swing, s.
         walking_gyro_rps: A sample counts as walking for the principal-axis fit when
             the smoothed shank gyro norm exceeds this, rad/s.
         shoe_window_s: Window of the SHOE detector (Skog et al. 2010, eq. 8), s.
@@ -174,6 +182,10 @@ class GaitParams:
     level_at_stance: bool = True
     cut_restore: bool = True
     cut_restore_ridge_s2: float = 1e-4
+    cut_rate_tilt_sd_rad: float = 0.03
+    cut_rate_prior_fraction: float = 0.5
+    cut_rate_prior_min_rps: float = 1.0
+    cut_rate_rest_s: float = 0.05
     min_event_rate_hz: float | None = 100.0
     walking_gyro_rps: float = 1.0
     shoe_window_s: float = 0.05
@@ -248,6 +260,17 @@ class GaitParams:
             raise InputError(
                 f"straight_heading_spread must be within [0, 1], got {self.straight_heading_spread}"
             )
+        cut_rate = (
+            "cut_rate_tilt_sd_rad",
+            "cut_rate_prior_fraction",
+            "cut_rate_prior_min_rps",
+            "cut_rate_rest_s",
+        )
+        for name in cut_rate:
+            if not 0 < getattr(self, name) < np.inf:
+                raise InputError(f"{name} must be > 0, got {getattr(self, name)}")
+        if not 0 < self.cut_rate_rest_s < np.inf:
+            raise InputError(f"cut_rate_rest_s must be > 0 s, got {self.cut_rate_rest_s}")
         if not 0 <= self.cut_restore_ridge_s2 < np.inf:
             raise InputError(f"cut_restore_ridge_s2 must be >= 0 s², got {self.cut_restore_ridge_s2}")
         if not self.chain_stance_margin_s >= 0:
