@@ -64,10 +64,12 @@ ROWS: tuple[tuple[str, float, float, bool, bool], ...] = (
     ("±4 g", 4, 0, True, True),
     ("±8 g", 8, 0, True, True),
     ("±250 °/s", 0, 250, True, True),
+    ("±250 °/s, not restored", 0, 250, True, False),
     ("±250 °/s, fitted", 0, 250, False, True),
     ("±500 °/s", 0, 500, True, True),
     ("±1000 °/s", 0, 1000, True, True),
     ("±2 g, ±250 °/s (MPU-6050 default)", 2, 250, True, True),
+    ("±2 g, ±250 °/s, not restored", 2, 250, True, False),
     ("±4 g, ±500 °/s", 4, 500, True, True),
 )
 
@@ -233,10 +235,13 @@ def markdown(res: dict[str, Any]) -> str:
         "accelerometer and/or gyro cut at the range of the row. *found / beyond*: sensor signals the "
         "input check reports cut, against those that go beyond the range in at least three places. "
         "*fitted*: the cut samples kept in the hip and ankle fits (`saturation_exclusion=False`); "
-        "every other row leaves them out (the default). *not restored*: the feet's cut accelerometers "
-        "integrated as recorded (`GaitParams(cut_restore=False)`); every other row gives each swing "
-        "the force its cut runs lost, sized by its end velocity (`lowerlimb.gait.cut_force`, the "
-        "default).",
+        "every other row leaves them out (the default). *not restored*: the feet's cut signals used "
+        "as recorded (`GaitParams(cut_restore=False)`); every other row gives a cut foot gyro's swings "
+        "the rotation that carries the foot's tilt from rest to rest (`lowerlimb.gait.cut_rate`) and a "
+        "cut foot accelerometer's swings the force that brings the foot to rest "
+        "(`lowerlimb.gait.cut_force`), the default. Step width is `–` (null in gait.json) wherever a "
+        "foot gyro is cut, restored or not: its turns about gravity are lost and the two feet's "
+        "tracks cannot be placed against each other.",
         "",
         f"## Simulated seven-IMU walks (seeds {seeds}, 60 s), against the truth",
         "",
