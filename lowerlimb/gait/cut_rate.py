@@ -26,11 +26,13 @@ gives two equations per swing (a turn about the vertical leaves no trace in it),
 swing's runs that turn the foot about gravity keep their priors. Only the swings of a foot
 gyro found cut (:mod:`lowerlimb.io.saturation`) are touched, and only along the cut axes.
 
-Per cut run, the rotation still missing after the restoration (``benchmarks/results/
-saturation.md`` for what it does downstream): on the real walk cut at ±250 °/s, 0.5 / 1.7 /
-2.9° (median / 90th percentile / worst, left foot; 1.0 / 11.8 / 21.6° cut), on seed 201's
-simulated walk 5.7 / 8.8 / 23.6° (23.7 / 27.4 / 37.0° cut). The simulated feet are cut over
-36 % of their samples in three runs a swing, so two equations leave more to the priors.
+Per cut run, the rotation still missing (median / 90th percentile / worst; what it does
+downstream is in ``benchmarks/results/saturation.md``): the real walk cut at ±250 °/s, left
+foot 0.6 / 6.0 / 21.6° (cut: 1.0 / 11.8 / 21.6), right foot 0.2 / 2.2 / 4.6° (0.4 / 11.2 /
+31.2); seed 201's simulated walk, left foot 6.1 / 9.0 / 23.6° (23.7 / 27.3 / 37.0). The
+left foot's worst is its spin in the real walk's turn, about the vertical, which the tilt
+cannot see; the simulated feet are cut over 36 % of their samples in three runs a swing, so
+two equations leave more to the priors.
 """
 
 from __future__ import annotations
