@@ -143,3 +143,25 @@ def test_a_cut_foot_gyro_leaves_the_steps_unplaced(cut_walk) -> None:
         assert all(s.step_width_m != s.step_width_m for s in out[restore].gait.parameters.strides)  # NaN
         assert len(out[restore, "warned"]) == 1
         assert gait["left"]["stride_length_m"]["n"] > 5  # the strides stay
+
+
+def test_the_cli_says_why_the_steps_are_null(tmp_path, capsys) -> None:
+    """``calibrate`` on a seven-IMU walk recorded at ±250 °/s: exit 0, the cut sensors and the
+    unplaced steps each said in one warning line, gait.json with strides and no step width."""
+    import json
+
+    from lowerlimb.cli import main
+
+    sim = simulate_bilateral(16.0, 202)
+    trial = replace(sim.trial, gyr={k: np.clip(v, -LIMIT, LIMIT) for k, v in sim.trial.gyr.items()})
+    csv = tmp_path / "walk.csv"
+    trial.to_csv(csv)
+    capsys.readouterr()
+    assert main(["calibrate", str(csv), "--out", str(tmp_path / "res")]) == 0
+    err = capsys.readouterr().err.splitlines()
+    said = [line for line in err if "step length and step width are null" in line]
+    assert len(said) == 1 and said[0].startswith("lowerlimb: warning: ") and "±1000 °/s" in said[0]
+    assert any("gyro is cut at its range" in line for line in err)
+    gait = json.loads((tmp_path / "res" / "gait.json").read_text())
+    assert gait["steps_unplaced"] == said[0].removeprefix("lowerlimb: warning: ")
+    assert gait["step_width_m"]["mean"] is None and gait["left"]["stride_length_m"]["mean"] > 0.5
