@@ -53,7 +53,7 @@ from scipy.optimize import nnls
 from lowerlimb.conventions import FloatArray, quat_rotate
 from lowerlimb.gait._signal import runs
 
-__all__ = ["SwingRestore", "edge_height", "restore_swing"]
+__all__ = ["SwingRestore", "edge_height", "hump", "parabola_height", "restore_swing"]
 
 
 @dataclass(frozen=True)
@@ -78,6 +78,26 @@ def _trapezoid_weights(m: int, dt: float) -> FloatArray:
     w = np.full(m, dt)
     w[0] = w[-1] = 0.5 * dt
     return w
+
+
+def hump(n: int) -> FloatArray:
+    """``sin(π (j + ½) / n)``, ``j = 0 … n − 1``: a half-sine of height 1 over ``n`` samples."""
+    return np.asarray(np.sin(np.pi * (np.arange(n) + 0.5) / n), dtype=float)
+
+
+def parabola_height(x: FloatArray, a: int, b: int, sign: int) -> float:
+    """The peak above the limit of the parabola through two samples either side of ``[a, b)``.
+
+    A least-squares fit to the (up to four) samples; 0 when it does not peak. Units of ``x``.
+    """
+    idx = [i for i in (a - 2, a - 1, b, b + 1) if 0 <= i < x.size]
+    if len(idx) < 3:
+        return 0.0
+    c2, c1, c0 = np.polyfit(np.asarray(idx, dtype=float), sign * x[idx], 2)
+    if c2 >= 0:
+        return 0.0
+    tp = float(np.clip(-c1 / (2 * c2), a, b - 1))
+    return max(0.0, float(c0 + c1 * tp + c2 * tp * tp) - sign * float(x[a]))
 
 
 def edge_height(x: FloatArray, a: int, b: int, sign: int, rate_hz: float) -> float:
@@ -105,7 +125,7 @@ def _humps(
             for a, b in runs(cut[:, axis] == sign):
                 n = b - a
                 local = np.zeros((n, 3))
-                local[:, axis] = sign * np.sin(np.pi * (np.arange(n) + 0.5) / n)
+                local[:, axis] = sign * hump(n)
                 spans.append((a, b))
                 humps.append(np.asarray(quat_rotate(quat[a:b], local), dtype=float))
                 prior.append(edge_height(acc[:, axis], a, b, sign, rate_hz))
