@@ -275,8 +275,8 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
             UnanchoredFeetWarning,
             stacklevel=2,
         )
-    chain = [c for c in (chain_steps(legs, events, p_ankle, side) for side in SIDES) if c is not None]
-    chain = [] if unplaced else chain
+    sides = () if unplaced else SIDES  # unplaced feet need no chain steps
+    chain = [c for c in (chain_steps(legs, events, p_ankle, side) for side in sides) if c is not None]
     parameters = compute_gait_parameters(
         events, trajs["left"], trajs["right"], anchor=anchor, chain=chain, params=p_ankle
     )

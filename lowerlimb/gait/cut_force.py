@@ -53,7 +53,7 @@ from scipy.optimize import nnls
 from lowerlimb.conventions import FloatArray, quat_rotate
 from lowerlimb.gait._signal import runs
 
-__all__ = ["SwingRestore", "edge_height", "hump", "parabola_height", "restore_swing"]
+__all__ = ["SwingRestore", "cut_runs", "edge_height", "hump", "parabola_height", "restore_swing"]
 
 
 @dataclass(frozen=True)
@@ -100,10 +100,11 @@ def parabola_height(x: FloatArray, a: int, b: int, sign: int) -> float:
     return max(0.0, float(c0 + c1 * tp + c2 * tp * tp) - sign * float(x[a]))
 
 
-def edge_height(x: FloatArray, a: int, b: int, sign: int, rate_hz: float) -> float:
-    """The hump height the signal's slopes into and out of the run ``[a, b)`` suggest, m/s².
+def edge_height(x: FloatArray, a: int, b: int, sign: int) -> float:
+    """The hump height the signal's slopes into and out of the run ``[a, b)`` suggest, units of ``x``.
 
-    A half-sine of height ``h`` over ``T`` seconds leaves its ends at a slope of ``π h / T``.
+    A half-sine of height ``h`` over ``L`` samples leaves its ends at a slope of ``π h / L``
+    per sample.
     """
     slopes = []
     if a >= 2:
@@ -112,23 +113,27 @@ def edge_height(x: FloatArray, a: int, b: int, sign: int, rate_hz: float) -> flo
         slopes.append(sign * (x[b] - x[b + 1]))
     if not slopes:
         return 0.0
-    return max(0.0, float(np.mean(slopes))) * rate_hz * ((b - a) / rate_hz) / np.pi
+    return max(0.0, float(np.mean(slopes))) * (b - a) / np.pi
+
+
+def cut_runs(cut: NDArray[np.int8]) -> list[tuple[int, int, int, int]]:
+    """``(start, stop, axis, sign)`` of every run of samples at one axis-sign's limit (``cut`` (M, 3))."""
+    return [
+        (a, b, axis, sign) for axis in range(3) for sign in (1, -1) for a, b in runs(cut[:, axis] == sign)
+    ]
 
 
 def _humps(
-    cut: NDArray[np.int8], quat: FloatArray, acc: FloatArray, rate_hz: float
+    cut: NDArray[np.int8], quat: FloatArray, acc: FloatArray
 ) -> tuple[list[tuple[int, int]], list[FloatArray], FloatArray]:
     """Each cut run's samples ``[a, b)``, unit hump (L, 3, earth frame) and edge height (m/s²)."""
     spans, humps, prior = [], [], []
-    for axis in range(3):
-        for sign in (1, -1):
-            for a, b in runs(cut[:, axis] == sign):
-                n = b - a
-                local = np.zeros((n, 3))
-                local[:, axis] = sign * hump(n)
-                spans.append((a, b))
-                humps.append(np.asarray(quat_rotate(quat[a:b], local), dtype=float))
-                prior.append(edge_height(acc[:, axis], a, b, sign, rate_hz))
+    for a, b, axis, sign in cut_runs(cut):
+        local = np.zeros((b - a, 3))
+        local[:, axis] = sign * hump(b - a)
+        spans.append((a, b))
+        humps.append(np.asarray(quat_rotate(quat[a:b], local), dtype=float))
+        prior.append(edge_height(acc[:, axis], a, b, sign))
     return spans, humps, np.asarray(prior)
 
 
@@ -159,7 +164,7 @@ def restore_swing(
     cut = np.asarray(cut_axes, dtype=np.int8)
     v_end = np.asarray(end_velocity_mps, dtype=float)
     m = q.shape[0]
-    spans, humps, prior = _humps(cut, q, np.asarray(acc, dtype=float), rate_hz)
+    spans, humps, prior = _humps(cut, q, np.asarray(acc, dtype=float))
     force = np.zeros((m, 3))
     if not spans or m < 2:
         return SwingRestore(force, np.zeros(0), 0.0)

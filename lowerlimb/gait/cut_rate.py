@@ -48,7 +48,7 @@ from scipy.spatial.transform import Rotation
 
 from lowerlimb.conventions import FloatArray
 from lowerlimb.gait._signal import runs
-from lowerlimb.gait.cut_force import hump, parabola_height
+from lowerlimb.gait.cut_force import cut_runs, hump, parabola_height
 from lowerlimb.gait.params import GaitParams
 from lowerlimb.gait.stationary import StationaryPeriods
 
@@ -100,9 +100,7 @@ class _Swing:
         self.gyr, self.dt = gyr, 1.0 / rate_hz
         self.runs = [
             _Run(a, b, axis, sign, parabola_height(gyr[:, axis], a, b, sign))
-            for axis in range(3)
-            for sign in (1, -1)
-            for a, b in runs(cut[:, axis] == sign)
+            for a, b, axis, sign in cut_runs(cut)
         ]
         self.runs.sort(key=lambda r: r.start)
         self.humps = [hump(r.stop - r.start) for r in self.runs]
