@@ -45,7 +45,7 @@ from .gait.cut_rate import RateRestore, restore_cut_gyro
 from .gait.params import GaitParams
 from .gait.stationary import detect_stationary
 from .io.held_samples import warn_held_samples
-from .io.saturation import Saturation, find_saturation, trial_saturation, warn_saturation
+from .io.saturation import Saturation, trial_saturation, warn_saturation
 from .io.trial import ImuTrial
 from .methods import ORIENTATION_FILTERS
 from .model.calibrated import calibrated_geometry, chain_positions
@@ -471,7 +471,10 @@ def _restored_foot_gyro(
     if cut is None or not params.cut_restore:
         return trial, None
     gyr, acc = trial.gyr["foot"], trial.acc["foot"]
-    cut = find_saturation(gyr, "gyr", "foot")  # again: the clock search may have re-timed the foot
+    # again: the clock search may have re-timed the foot; with the other sensors, whose limit
+    # the foot may reach only once or twice
+    found = trial_saturation(trial.acc, trial.gyr)
+    cut = next((s for s in found if s.sensor == "foot" and s.signal == "gyr"), None)
     if cut is None:
         return trial, None
     rests = detect_stationary(gyr, acc, trial.rate_hz, params)

@@ -115,3 +115,33 @@ def test_a_start_in_mid_motion_does_not_flip_the_flexion_sign(start_s):
     j = np.array([1.0, 0.0, 0.0])
     assert flexion_sign_margin(j, j, wp, wc, rate, 0) > 0
     assert flexion_sign_margin(-j, -j, wp, wc, rate, 0) < 0
+
+
+def test_a_leak_that_swings_the_angle_both_ways_leaves_the_sign_to_the_drift_free_test():
+    """30 s of gait-like knee flexion from a standing start, with 2 rad of the angle lost one
+    way over the walk (a turn's leakage, or a gyro cut at its range losing a part of every
+    swing): the angle from the start swings to both sides (score 0.51, where a knee flexing
+    from a straight leg scores above 0.7) and alone would flip the axes; the drift-free test
+    decides instead."""
+    from lowerlimb.calibration.hinge_axis import flexion_sign_margin
+
+    rate = 100.0
+    t = np.arange(0.0, 32.0, 1.0 / rate)
+    moving = t >= 2.0
+    phase = ((t - 2.0) / 1.1) % 1.0
+    flexion = np.where(moving, 0.9 * np.where(phase > 0.6, np.sin(np.pi * (phase - 0.6) / 0.4) ** 2, 0.0), 0.0)
+    wc = np.zeros((t.size, 3))
+    wc[:, 0] = -np.gradient(flexion, t) + 2.0 / 30.0 * moving
+    wp = np.zeros_like(wc)
+    j = np.array([1.0, 0.0, 0.0])
+    opts = CalibrationOptions()
+    kw = {"raw_window_s": opts.sign_raw_window_s}
+    assert flexion_sign_margin(j, j, wp, wc, rate, 200, **kw) < 0  # the start's test alone: wrong
+    assert flexion_sign_margin(j, j, wp, wc, rate, 200, raw_min_score=opts.sign_raw_min_score, **kw) > 0
+    # no leak: the test from the start scores near 1 and still decides
+    wc[:, 0] = -np.gradient(flexion, t)
+    assert flexion_sign_margin(j, j, wp, wc, rate, 200, raw_min_score=opts.sign_raw_min_score, **kw) > 0.8
+    from lowerlimb.errors import InputError
+
+    with pytest.raises(InputError, match="sign_raw_min_score"):
+        CalibrationOptions(sign_raw_min_score=1.5)

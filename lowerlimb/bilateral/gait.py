@@ -47,7 +47,8 @@ from ..gait import (
 )
 from ..gait.placement import mean_walking_direction
 from ..gait.turns import Turns, detect_turns, vertical_rate
-from ..io.saturation import find_saturation
+from ..io.saturation import Saturation, trial_saturation
+from ..io.trial import ImuTrial
 from ..pipeline import TrialResult
 from .chain_steps import chain_steps
 
@@ -251,7 +252,7 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
     trajs: dict[str, FootTrajectory] = {}
     for s, ev in (("left", events.left), ("right", events.right)):
         assert ev is not None and ev.stationary is not None
-        cut = find_saturation(legs[s].trial.acc["foot"], "acc") if p.cut_restore else None
+        cut = _cut_foot_acc(legs[s].trial) if p.cut_restore else None
         tr = integrate_foot(
             gyr[s, "foot"],
             legs[s].trial.acc["foot"],
@@ -284,6 +285,12 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
     shifted = GaitEvents(left=_shift(events.left, t0), right=_shift(events.right, t0), extras=events.extras)
     turns = walker_turns(legs["left"], shifted, p)
     return BilateralGait(shifted, parameters, anchor, offsets, trajs, turns=turns, unplaced=unplaced)
+
+
+def _cut_foot_acc(trial: ImuTrial) -> Saturation | None:
+    """The leg's foot accelerometer found cut, seen with the leg's other sensors (a shared range)."""
+    found = trial_saturation(trial.acc, {})
+    return next((s for s in found if s.sensor == "foot"), None)
 
 
 def _cut_foot_gyros(legs: dict[str, TrialResult]) -> str:

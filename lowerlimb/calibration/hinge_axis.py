@@ -270,6 +270,7 @@ def flexion_sign_margin(
     *,
     drift_hz: float = 0.1,
     raw_window_s: float | None = None,
+    raw_min_score: float = 0.0,
 ) -> float:
     """How clearly the axes' sign makes flexion the dominant excursion (> 0: keep, < 0: flip), rad.
 
@@ -283,7 +284,12 @@ def flexion_sign_margin(
     decisive of the two tests (margin over the angle's range) decides. The test
     from the start looks only at the first ``raw_window_s`` after the still
     start: on a 20-minute simulated walk the whole angle drifted by 4.4 rad to
-    one side, which made that test the more decisive one, and wrong.
+    one side, which made that test the more decisive one, and wrong. A joint flexing from a
+    straight standing leg scores near 1 on the test from the start (0.97 on both knees of
+    the real walk); below ``raw_min_score`` that angle has swung to both sides by nearly as
+    much, so drift, a turn's leakage or a gyro cut at its range has taken it over (the real
+    walk's right knee with its gyros cut at ±300 °/s: 0.22, the wrong sign, flexion mirrored),
+    and the drift-free test alone decides.
 
     Args:
         axis_parent: (3,) unit axis, parent frame.
@@ -295,6 +301,9 @@ def flexion_sign_margin(
         drift_hz: cut-off of the drift removal, Hz.
         raw_window_s: length of the test from the start after the still samples, s
             (``None``: the whole trial).
+        raw_min_score: below this score (0–1) the test from a standing start is not used
+            when the drift-free test can be made (without a standing start, flexion is taken
+            from its mean, about which no knee scores near 1).
 
     Returns:
         The signed margin ``p99 + p1`` of the deciding test, rad.
@@ -303,6 +312,8 @@ def flexion_sign_margin(
     tests = _flexion_tests(axis_parent, axis_child, gyr_parent, gyr_child, rate_hz, n_still, drift_hz)
     if raw_window_s is not None:
         tests[0] = tests[0][: n_still + max(1, int(raw_window_s * rate_hz))]
+    if n_still >= 1 and len(tests) > 1 and _one_sidedness(tests[0])[1] < raw_min_score:
+        tests = tests[1:]
     for x in tests:
         margin, score = _one_sidedness(x)
         if score > best_score:
@@ -554,7 +565,15 @@ def fit_hinge_axis(
     jc, coherence, corr = _relative_sign(
         jp, jc, *ws, rate_hz, acc_check, joint, child_sensor, messages, n_still=n_still, options=options
     )
-    margin = flexion_sign_margin(jp, jc, *ws, rate_hz, n_still, raw_window_s=options.sign_raw_window_s)
+    margin = flexion_sign_margin(
+        jp,
+        jc,
+        *ws,
+        rate_hz,
+        n_still,
+        raw_window_s=options.sign_raw_window_s,
+        raw_min_score=options.sign_raw_min_score,
+    )
     if margin < 0:
         jp, jc = -jp, -jc
     r, report, std_deg = _axis_diagnostics(

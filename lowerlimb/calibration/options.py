@@ -98,6 +98,11 @@ class CalibrationOptions:
             (:func:`~lowerlimb.calibration.hinge_axis.flexion_sign_margin`): over a whole
             20-minute walk the residual gyro bias drifted the angle by 4.4 rad, one-sidedly,
             and that test flipped a simulated knee.
+        sign_raw_min_score: below this one-sidedness score (0–1) the test from the standing
+            start is left out and the drift-free test alone decides the overall hinge sign (a
+            knee flexing 60° from a straight leg scores 0.72 even if it also extends 10° beyond
+            straight, and 0.97 on both knees of the real walk; that walk's right knee with its
+            gyros cut at ±300 °/s scored 0.22 and came out mirrored).
         sign_one_sided_margin: when neither the gyro coherence nor the accelerometers settle
             a hinge's relative axis sign, the candidate whose drift-free joint angle is more
             one-sided by at least this score (0–1) is taken
@@ -370,6 +375,7 @@ class CalibrationOptions:
     hinge_band_hz: float | None = 4.0
     hinge_band_max_disagreement_deg: float = 5.0
     sign_raw_window_s: float = 60.0
+    sign_raw_min_score: float = 0.7
     sign_one_sided_margin: float = 0.15
     hinge_starts: int = 3
     hinge_centre_start_m: float | None = 0.25
@@ -533,6 +539,8 @@ class CalibrationOptions:
             raise InputError(f"aligned_joints may hold 'hip' and 'knee', got {list(self.aligned_joints)}")
         if not self.sign_raw_window_s > 0:
             raise InputError(f"sign_raw_window_s must be > 0 s, got {self.sign_raw_window_s}")
+        if not 0.0 <= self.sign_raw_min_score <= 1.0:
+            raise InputError(f"sign_raw_min_score must be in [0, 1], got {self.sign_raw_min_score}")
         if not self.aligned_window_s > 0 or self.aligned_iterations < 1:
             raise InputError(
                 f"aligned_window_s must be > 0 s and aligned_iterations >= 1, got "

@@ -27,8 +27,15 @@ sits at it (many samples at the top, a few passing through below). The axis-sign
   is made with a range below those).
 
 The band is relative, so it tolerates what a vendor's calibration does after the cut (a scale
-and a 1 % axis misalignment smear the plateau by less than the band). A limit reached once or
-twice in a trial is not reported: it cuts a peak or two and changes nothing measurable.
+and a 1 % axis misalignment smear the plateau by less than the band).
+
+A range is the same on the three axes of a sensor, and mostly on every sensor of a trial. So a
+limit reached once or twice on one axis-sign still counts when it is held there
+(``min_samples`` readings at one value, or ``min_held_samples`` in a row within the band) and
+the same limit (within ``top_band``) is reached, held, in ``min_episodes`` places or more over
+the sensors of its kind: on the real walk cut at ±350 °/s, the feet reach it four and six times
+and each shank once, for 0.1–0.2 s, which moved the right shank's length by 16 mm when it was
+not left out. A limit reached once or twice in the whole trial is not reported.
 """
 
 from __future__ import annotations
@@ -75,6 +82,10 @@ class SaturationParams:
         min_episodes: fewest separate runs at the limit; unless every sample at the limit
             has one value (within ``exact_tolerance``, relative), also the fewest runs of two
             samples or more.
+        min_held_samples: an axis-sign held at its largest value (within ``top_band``) for this
+            many samples in a row, or at one value in ``min_samples``, is cut when that limit
+            is reached in ``min_episodes`` places or more over the trial's sensors of its kind
+            (the range is shared), though fewer times on this one.
         exact_tolerance: relative spread of the readings at the limit below which they are
             one value (a signal cut as recorded, before any calibration).
         min_level_fraction: an axis-sign's limit must be at least this fraction of the
@@ -92,6 +103,7 @@ class SaturationParams:
     min_samples: int = 5
     min_samples_smeared: int = 20
     min_episodes: int = 3
+    min_held_samples: int = 3
     exact_tolerance: float = 1e-9
     min_level_fraction: float = 0.8
     min_level_acc_mps2: float = 1.5 * GRAVITY_MPS2
@@ -146,10 +158,11 @@ class Saturation:
         else:
             level = f"±{self.level:.3g} rad/s ({math.degrees(self.level):.0f} °/s)"
             fix = f"±{params.advised_gyr_dps:g} °/s"
+        places = "place" if self.episodes == 1 else "places"
         return (
             f"the {self.sensor} {_NAMES[self.signal]} is cut at its range, {level}: "
             f"{self.samples} samples ({100 * self.fraction:.2g} % of the trial) in {self.episodes} "
-            f"places sit at that limit, where the joint calibration, the orientation and the foot "
+            f"{places} sit at that limit, where the joint calibration, the orientation and the foot "
             f"tracks read a wrong signal (lengths, angles and steps may be far off); "
             f"record with the sensor set to a range of {fix} or more"
         )
@@ -161,8 +174,32 @@ def _runs(flags: NDArray[np.bool_]) -> int:
     return int(np.count_nonzero(np.diff(f) == 1) + f[0]) if f.size else 0
 
 
-def _axis_sign_limit(x: FloatArray, params: SaturationParams) -> tuple[float, NDArray[np.bool_]] | None:
-    """The limit and the samples at it of one axis-sign's readings ``x`` (N,), or ``None`` when not cut."""
+@dataclass(frozen=True)
+class _AxisSign:
+    """One sensor's axis-sign readings near their largest value (a candidate limit)."""
+
+    sensor: str
+    axis: int
+    sign: int
+    level: float
+    top: NDArray[np.bool_]
+    alone: bool  # cut by its own evidence (several runs at the limit)
+    plateau: bool  # held at the limit, cut if the same limit is reached often enough elsewhere
+
+
+def _longest_run(flags: NDArray[np.bool_]) -> int:
+    """Length of the longest run of ``True``."""
+    if not flags.any():
+        return 0
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], flags.astype(np.int8), [0]))))
+    return int((edges[1::2] - edges[::2]).max())
+
+
+def _axis_sign(x: FloatArray, params: SaturationParams) -> tuple[float, NDArray[np.bool_], bool, bool] | None:
+    """One axis-sign's readings ``x`` (N,): its largest value, the samples at it, cut alone, held there.
+
+    ``None`` when the readings do not pile up at their largest value (module docstring).
+    """
     m = float(x.max())
     if m <= 0:
         return None
@@ -171,22 +208,83 @@ def _axis_sign_limit(x: FloatArray, params: SaturationParams) -> tuple[float, ND
     n_top = int(top.sum())
     if n_top < params.min_samples or n_top < params.pile_ratio * int(below.sum()):
         return None
-    if _runs(top) < params.min_episodes:
-        return None
     # cut exactly (one value), or held at the limit for two samples or more in several places;
     # a periodic signal's peaks come back near one value, but neither exactly nor held
     exact = x >= m - params.exact_tolerance * m
-    if int(exact.sum()) < params.min_samples or _runs(exact) < params.min_episodes:
-        held = _runs(top & np.roll(top, 1) & (np.arange(x.size) > 0))
-        if n_top < params.min_samples_smeared or held < params.min_episodes:
-            return None
-    return m, top
+    n_exact, runs = int(exact.sum()), _runs(top)
+    alone = n_exact >= params.min_samples and _runs(exact) >= params.min_episodes
+    if not alone and n_top >= params.min_samples_smeared:
+        alone = _runs(top & np.roll(top, 1) & (np.arange(x.size) > 0)) >= params.min_episodes
+    plateau = n_exact >= params.min_samples or _longest_run(top) >= params.min_held_samples
+    return m, top, alone and runs >= params.min_episodes, plateau
+
+
+def _candidates(signals: Mapping[str, FloatArray], params: SaturationParams, floor: float) -> list[_AxisSign]:
+    """Every axis-sign of every sensor that piles up at a value at or above the floor."""
+    out = []
+    for sensor, x in signals.items():
+        level_floor = max(floor, params.min_level_fraction * float(np.abs(x).max()))
+        for axis in range(3):
+            for sign in (1, -1):
+                found = _axis_sign(sign * x[:, axis], params)
+                if found is not None and found[0] >= level_floor:
+                    out.append(_AxisSign(sensor, axis, sign, *found))
+    return out
+
+
+def _shared_limits(cands: list[_AxisSign], params: SaturationParams) -> list[_AxisSign]:
+    """The held axis-signs whose common limit is reached in ``min_episodes`` places or more in all.
+
+    A range is the same on every axis of a sensor, and mostly on every sensor of a trial: a
+    shank reaching the gyro's limit once, where the feet reach it again and again, is cut too.
+    Levels within ``top_band`` of the largest in a group are one limit.
+    """
+    held = sorted((c for c in cands if c.plateau), key=lambda c: -c.level)
+    out: list[_AxisSign] = []
+    while held:
+        head = held[0].level
+        group = [c for c in held if c.level >= (1.0 - params.top_band) * head]
+        held = held[len(group) :]
+        per_sensor: dict[str, NDArray[np.bool_]] = {}
+        for c in group:
+            per_sensor[c.sensor] = per_sensor[c.sensor] | c.top if c.sensor in per_sensor else c.top
+        if sum(_runs(t) for t in per_sensor.values()) >= params.min_episodes:
+            out += group
+    return out
+
+
+def _find(signals: Mapping[str, FloatArray], kind: str, params: SaturationParams) -> list[Saturation]:
+    """The cut signals among ``signals`` (``{sensor: (N, 3)}``) of one kind, in their order."""
+    floor = params.min_level_acc_mps2 if kind == "acc" else params.min_level_gyr_rps
+    cands = _candidates(signals, params, floor)
+    accepted = {id(c): c for c in cands if c.alone} | {id(c): c for c in _shared_limits(cands, params)}
+    found = []
+    for sensor, x in signals.items():
+        mine = [c for c in accepted.values() if c.sensor == sensor]
+        if not mine:
+            continue
+        axes = np.zeros(x.shape, dtype=np.int8)
+        for c in mine:
+            axes[c.top, c.axis] = c.sign
+        at_limit: NDArray[np.bool_] = np.asarray(axes.any(axis=1), dtype=bool)
+        found.append(Saturation(sensor, kind, max(c.level for c in mine), at_limit, _runs(at_limit), axes))
+    return found
+
+
+def _checked(signal: ArrayLike) -> FloatArray:
+    x = np.asarray(signal, dtype=float)
+    if x.ndim != 2 or x.shape[1] != 3:
+        raise ValueError(f"signal must be (N, 3), got {x.shape}")
+    return x
 
 
 def find_saturation(
     signal: ArrayLike, kind: str, sensor: str = "", params: SaturationParams = SATURATION_PARAMS
 ) -> Saturation | None:
     """Whether one sensor's accelerometer or gyro is cut at a full-scale limit (module docstring).
+
+    Its three axes share one range; a trial's other sensors are not seen (:func:`trial_saturation`
+    sees them all).
 
     Args:
         signal: (N, 3) readings in the sensor frame, m/s² (``kind="acc"``) or rad/s (``"gyr"``).
@@ -202,24 +300,11 @@ def find_saturation(
     """
     if kind not in _NAMES:
         raise ValueError(f"kind must be 'acc' or 'gyr', got {kind!r}")
-    x = np.asarray(signal, dtype=float)
-    if x.ndim != 2 or x.shape[1] != 3:
-        raise ValueError(f"signal must be (N, 3), got {x.shape}")
+    x = _checked(signal)
     if x.shape[0] == 0:
         return None
-    floor = params.min_level_acc_mps2 if kind == "acc" else params.min_level_gyr_rps
-    floor = max(floor, params.min_level_fraction * float(np.abs(x).max()))
-    levels, axes = [], np.zeros(x.shape, dtype=np.int8)
-    for axis in range(3):
-        for sign in (1, -1):
-            found = _axis_sign_limit(sign * x[:, axis], params)
-            if found is not None and found[0] >= floor:
-                levels.append(found[0])
-                axes[found[1], axis] = sign
-    if not levels:
-        return None
-    at_limit: NDArray[np.bool_] = np.asarray(axes.any(axis=1), dtype=bool)
-    return Saturation(sensor, kind, max(levels), at_limit, _runs(at_limit), axes)
+    found = _find({sensor: x}, kind, params)
+    return found[0] if found else None
 
 
 def trial_saturation(
@@ -227,18 +312,20 @@ def trial_saturation(
 ) -> list[Saturation]:
     """Every cut accelerometer and gyro of a trial, in the order of ``acc``'s sensors (acc, then gyro).
 
+    A limit found on one sensor is sought on the others of its kind too (module docstring).
+
     Args:
         acc: ``{sensor: (N, 3)}`` specific force, m/s².
         gyr: ``{sensor: (N, 3)}`` angular velocity, rad/s.
         params: thresholds.
     """
+    by_kind: dict[str, list[Saturation]] = {}
+    for kind, signals in (("acc", acc), ("gyr", gyr)):
+        checked = {s: _checked(signals[s]) for s in acc if s in signals}
+        by_kind[kind] = _find({s: x for s, x in checked.items() if x.shape[0]}, kind, params)
     found = []
     for sensor in acc:
-        for kind, signals in (("acc", acc), ("gyr", gyr)):
-            if sensor in signals:
-                s = find_saturation(signals[sensor], kind, sensor, params)
-                if s is not None:
-                    found.append(s)
+        found += [s for kind in ("acc", "gyr") for s in by_kind[kind] if s.sensor == sensor]
     return found
 
 
