@@ -83,8 +83,10 @@ def _limits(acc_g: float, gyr_dps: float) -> dict[str, float]:
 
 
 def _beyond(trial: BilateralTrial, limits: dict[str, float]) -> tuple[set[str], float]:
-    """Sensors beyond a range for ≥ 3 samples in a row where their kind goes beyond it in ≥ 3 places in all,
-    and the largest share of one sensor's samples beyond it."""
+    """Sensors beyond a range, and the largest share of one sensor's samples beyond it.
+
+    Beyond: for ≥ 3 samples in a row somewhere, where the kind goes beyond it in ≥ 3 places in all.
+    """
     sensors, share = set(), 0.0
     for kind, signals in (("acc", trial.acc), ("gyr", trial.gyr)):
         if not limits[kind]:

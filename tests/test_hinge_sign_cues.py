@@ -129,7 +129,8 @@ def test_a_leak_that_swings_the_angle_both_ways_leaves_the_sign_to_the_drift_fre
     t = np.arange(0.0, 32.0, 1.0 / rate)
     moving = t >= 2.0
     phase = ((t - 2.0) / 1.1) % 1.0
-    flexion = np.where(moving, 0.9 * np.where(phase > 0.6, np.sin(np.pi * (phase - 0.6) / 0.4) ** 2, 0.0), 0.0)
+    swing = np.where(phase > 0.6, np.sin(np.pi * (phase - 0.6) / 0.4) ** 2, 0.0)
+    flexion = np.where(moving, 0.9 * swing, 0.0)
     wc = np.zeros((t.size, 3))
     wc[:, 0] = -np.gradient(flexion, t) + 2.0 / 30.0 * moving
     wp = np.zeros_like(wc)
