@@ -17,7 +17,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lowerlimb.errors import InputError
+from lowerlimb.io.bilateral_trial import read_header
 from lowerlimb.io.bounds import INPUT_BOUNDS
+from lowerlimb.io.trial import one_side_prefix
 
 from .params import BatchParams
 
@@ -145,11 +147,19 @@ def _read_utf8_rows(path: Path) -> list[dict[str, str]]:
         return rows
 
 
+def _prefixed_side(path: Path) -> str | None:
+    """The side a one-leg trial's ``left_*``/``right_*`` column names give, or ``None`` (also unreadable)."""
+    try:
+        return one_side_prefix(read_header(path))
+    except (OSError, ValueError):  # reported when the trial is read
+        return None
+
+
 def _trial_of(row: dict[str, str], k: int, base: Path, src: Path, p: BatchParams) -> StudyTrial:
     label = row.get("trial", "")
     if not label:
         raise ManifestError(src, "empty 'trial' cell; give the trial CSV's path", k)
-    side = row.get("side") or p.default_side
+    side = row.get("side") or _prefixed_side(base / label) or p.default_side
     if side not in ("left", "right"):
         raise ManifestError(src, f"side {side!r}; use left or right", k)
     calibration = row.get("calibration") or ""

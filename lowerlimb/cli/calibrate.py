@@ -130,7 +130,7 @@ def run(args: argparse.Namespace) -> int:
     """Build :class:`~lowerlimb.outputs.CalibrateOptions` from the arguments and run it."""
     from lowerlimb.outputs import CalibrateOptions, run_calibrate
 
-    two_legs = _two_leg_trial(args.trial)
+    two_legs, prefixed = _layout(args.trial, args.side)
     if two_legs and args.side is not None:
         raise InputError(
             f"{args.trial} is a two-leg trial (pelvis, left_*, right_* sensors): both legs are "
@@ -140,7 +140,7 @@ def run(args: argparse.Namespace) -> int:
     options = CalibrateOptions(
         trial=args.trial,
         out=args.out,
-        side=args.side or "left",
+        side=args.side or prefixed or "left",
         method=args.method,
         filter_name=args.filter,
         height_m=args.height,
@@ -169,18 +169,24 @@ def run(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _two_leg_trial(path: Path) -> bool:
-    """True when the trial's header names the seven two-leg sensors (docs/formats.md, "Two legs").
+def _layout(path: Path, side: str | None) -> tuple[bool, str | None]:
+    """Whether the trial is a two-leg one, and the side a one-leg header's prefixed names give.
 
+    Two legs: the header names the seven two-leg sensors (docs/formats.md, "Two legs"). The
+    side: ``None`` unless the header names one side's ``left_*`` or ``right_*`` sensors only.
     An unreadable or empty file is left to the single-leg path, which reports it.
 
     Raises:
-        InputError: the header mixes single-leg and two-leg sensor names.
+        InputError: the header mixes single-leg and two-leg sensor names, or names one side
+            and ``side`` is the other.
     """
     from lowerlimb.io.bilateral_trial import read_header, trial_layout
+    from lowerlimb.io.trial import leg_side
 
     try:
         header = read_header(path)
     except (OSError, ValueError):  # InputError and UnicodeDecodeError are ValueErrors
-        return False
-    return trial_layout(header) == "two_legs"
+        return False, None
+    if trial_layout(header) == "two_legs":
+        return True, None
+    return False, leg_side(header, side, str(path))

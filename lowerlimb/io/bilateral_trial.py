@@ -32,6 +32,7 @@ from .trial import (
     check_unique_columns,
     column_names,
     has_all_mag,
+    one_side_prefix,
     read_numbers,
     unreadable_csv,
 )
@@ -68,13 +69,16 @@ def read_header(path: str | os.PathLike[str]) -> list[str]:
 
 
 def trial_layout(header: list[str]) -> str:
-    """``"two_legs"`` when the header names any ``left_*``/``right_*`` sensor column, else ``"one_leg"``.
+    """``"two_legs"`` when the header names both sides' ``left_*``/``right_*`` sensors, else ``"one_leg"``.
+
+    A header naming one side only (``pelvis``, ``left_thigh`` …) is that one leg
+    (:func:`~lowerlimb.io.trial.one_side_prefix`).
 
     Raises:
         InputError: the header mixes single-leg (``thigh_acc_x``) and two-leg (``left_thigh_acc_x``) names.
     """
     two = [h for h in header if h.rsplit("_", 2)[0] in TWO_LEG_SENSORS[1:]]
-    if not two:
+    if not two or one_side_prefix(header) is not None:
         return "one_leg"
     one = [h for h in header if h.rsplit("_", 2)[0] in SENSORS[1:]]
     if one:
@@ -191,7 +195,7 @@ class BilateralTrial(TimeAxis):
         header = read_header(path)
         if trial_layout(header) != "two_legs":
             raise InputError(
-                f"{path} is not a two-leg trial: its header has no left_*/right_* sensor columns; "
+                f"{path} is not a two-leg trial: its header has no left_* and right_* sensor columns; "
                 f"read a single-leg trial with ImuTrial.from_csv"
             )
         if "time" not in header:

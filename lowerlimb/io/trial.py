@@ -18,7 +18,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..conventions import GRAVITY_MPS2, MAX_GYRO_RAD_S, MIN_MEDIAN_ACC_MPS2, SENSORS, FloatArray, check_side
+from ..conventions import (
+    GRAVITY_MPS2,
+    MAX_GYRO_RAD_S,
+    MIN_MEDIAN_ACC_MPS2,
+    SENSORS,
+    SIDES,
+    FloatArray,
+    check_side,
+)
 from ..errors import (
     InputError,
     MissingColumnError,
@@ -352,20 +360,27 @@ class ImuTrial(TimeAxis):
     # ------------------------------------------------------------ CSV
 
     @classmethod
-    def from_csv(cls, path: str | os.PathLike[str], side: str = "left", *, use_mag: bool = True) -> ImuTrial:
+    def from_csv(
+        cls, path: str | os.PathLike[str], side: str | None = None, *, use_mag: bool = True
+    ) -> ImuTrial:
         """Read and validate a trial CSV.
+
+        A header that names one side's sensors with the two-leg prefix (``pelvis``,
+        ``left_thigh``, ``left_shank``, ``left_foot``, no ``right_*``) is that leg
+        (:func:`one_side_prefix`); messages then name its columns as in the file.
 
         Args:
             path: the trial CSV (docs/formats.md).
-            side: instrumented leg.
+            side: instrumented leg; ``None``: the prefixed side, else ``"left"``.
             use_mag: read the magnetometer columns; when False they are ignored
                 (gaps or NaN in them are then no error).
 
         Raises:
             FileNotFoundError: when ``path`` does not exist.
             InputError: a folder, a binary/compressed/non-UTF-8 file, another
-                separator than the comma, a duplicated column, a text cell, or
-                any problem of :meth:`validate`.
+                separator than the comma, a duplicated column, a text cell, a
+                ``side`` other than the one the columns name, or any problem of
+                :meth:`validate`.
         """
         path = os.fspath(path)
         if os.path.isdir(path):
@@ -373,6 +388,20 @@ class ImuTrial(TimeAxis):
         if not os.path.isfile(path):
             raise FileNotFoundError(f"trial file not found: {path}")
         header = _read_header(path)
+        prefix = leg_side(header, side, path)
+        if prefix is None:
+            return cls._from_csv(path, header, side or "left", use_mag)
+        unprefixed = [h.removeprefix(f"{prefix}_") for h in header]
+        from .bilateral_trial import with_file_names  # it imports this module
+
+        try:
+            return cls._from_csv(path, unprefixed, prefix, use_mag)
+        except InputError as e:
+            raise with_file_names(e, prefix) from None
+
+    @classmethod
+    def _from_csv(cls, path: str, header: list[str], side: str, use_mag: bool) -> ImuTrial:
+        """Read the columns of ``header`` (single-leg names) from ``path`` and validate them."""
         col = {name: i for i, name in enumerate(header)}
         names = ["time"]
         for s in SENSORS:
@@ -426,6 +455,33 @@ class ImuTrial(TimeAxis):
             comments="",
             fmt="%.9g",
         )
+
+
+def one_side_prefix(header: Sequence[str]) -> str | None:
+    """The side whose two-leg names (``left_thigh_acc_x`` …) are the header's only leg sensors, or ``None``.
+
+    ``None`` also for a header with both sides, with no side prefix, or with single-leg names.
+    """
+    names = {side: tuple(f"{side}_{p}_" for p in SENSORS[1:]) for side in SIDES}
+    prefixed = {side for side in SIDES for h in header if h.startswith(names[side])}
+    single = any(h.startswith(tuple(f"{p}_" for p in SENSORS[1:])) for h in header)
+    return prefixed.pop() if len(prefixed) == 1 and not single else None
+
+
+def leg_side(header: Sequence[str], side: str | None, path: str = "") -> str | None:
+    """The side a one-leg header's prefixed columns name (:func:`one_side_prefix`), checked against ``side``.
+
+    Raises:
+        InputError: ``side`` is given and is the other side.
+    """
+    prefix = one_side_prefix(header)
+    if prefix is not None and side is not None and check_side(side) != prefix:
+        where = f"{path} names" if path else "the columns name"
+        raise InputError(
+            f"{where} the {prefix} leg's sensors ({prefix}_thigh, {prefix}_shank, {prefix}_foot) "
+            f"but the side is {side}; drop --side (or pass --side {prefix})"
+        )
+    return prefix
 
 
 def _read_header(path: str) -> list[str]:
