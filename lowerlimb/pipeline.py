@@ -42,6 +42,7 @@ from .calibration.thigh_twist import (
 from .conventions import SENSORS, FloatArray, quat_from_matrix
 from .errors import InputError
 from .gait.cut_rate import RateRestore, restore_cut_gyro
+from .gait.cut_segment import JointLink, SegmentRestore, restore_cut_segment_gyro
 from .gait.params import GaitParams
 from .gait.stationary import detect_stationary
 from .io.held_samples import warn_held_samples
@@ -109,6 +110,9 @@ class TrialResult:
         foot_gyro_restore: its swings restored between the foot's rests
             (:mod:`lowerlimb.gait.cut_rate`; ``trial`` holds the restored gyro), or ``None``
             (not cut, or ``GaitParams.cut_restore`` off).
+        segment_gyro_restore: ``{"thigh"|"shank": …}`` the cut runs of those gyros restored
+            (:mod:`lowerlimb.gait.cut_segment`; ``trial`` holds the restored gyros); empty when
+            none is cut or ``GaitParams.cut_restore`` is off.
     """
 
     trial: ImuTrial
@@ -126,6 +130,7 @@ class TrialResult:
     quat_smoothed_wxyz: dict[str, FloatArray] | None = None
     foot_gyro_cut: Saturation | None = None
     foot_gyro_restore: RateRestore | None = None
+    segment_gyro_restore: dict[str, SegmentRestore] = field(default_factory=dict)
 
     @property
     def angles_rad(self) -> FloatArray:
@@ -465,21 +470,53 @@ class _Stopwatch:
 
 
 def _restored_foot_gyro(
-    trial: ImuTrial, cut: Saturation | None, params: GaitParams
+    trial: ImuTrial, found: list[Saturation], params: GaitParams
 ) -> tuple[ImuTrial, RateRestore | None]:
     """The trial with a cut foot gyro's swings restored between its rests (:mod:`.gait.cut_rate`)."""
+    cut = next((s for s in found if s.sensor == "foot" and s.signal == "gyr"), None)
     if cut is None or not params.cut_restore:
         return trial, None
     gyr, acc = trial.gyr["foot"], trial.acc["foot"]
-    # again: the clock search may have re-timed the foot; with the other sensors, whose limit
-    # the foot may reach only once or twice
-    found = trial_saturation(trial.acc, trial.gyr)
-    cut = next((s for s in found if s.sensor == "foot" and s.signal == "gyr"), None)
-    if cut is None:
-        return trial, None
     rests = detect_stationary(gyr, acc, trial.rate_hz, params)
     restored = restore_cut_gyro(gyr, acc, trial.rate_hz, cut.axes, rests, params)
     return replace(trial, gyr=trial.gyr | {"foot": restored.gyr_rps}), restored
+
+
+#: A segment's joints: (joint, the segment's end of it, the neighbour sensor).
+_SEGMENT_JOINTS = {
+    "thigh": (("hip", "child", "pelvis"), ("knee", "parent", "shank")),
+    "shank": (("knee", "child", "thigh"), ("ankle", "parent", "foot")),
+}
+
+
+def _restored_segment_gyros(
+    trial: ImuTrial, calib: LegCalibration, found: list[Saturation], params: GaitParams
+) -> tuple[ImuTrial, dict[str, SegmentRestore]]:
+    """The trial with cut thigh and shank gyros restored run by run (:mod:`.gait.cut_segment`)."""
+    cut = {s.sensor: s for s in found if s.signal == "gyr" and s.sensor in _SEGMENT_JOINTS}
+    if not cut or not params.cut_restore:
+        return trial, {}
+    n = trial.time_s.shape[0]
+    acc_cut = {s.sensor: s.at_limit for s in found if s.signal == "acc"}
+    no_cut = np.zeros(n, dtype=bool)
+    gyr = dict(trial.gyr)
+    out: dict[str, SegmentRestore] = {}
+    for sensor in ("shank", "thigh"):
+        if sensor not in cut:
+            continue
+        links = []
+        for joint, end, other in _SEGMENT_JOINTS[sensor] if params.cut_segment_fit else ():
+            fit = getattr(calib, joint)
+            there = "child" if end == "parent" else "parent"
+            here_c, there_c = (np.asarray(getattr(fit, f"center_in_{e}_sensor"), float) for e in (end, there))
+            # a cut accelerometer says nothing (a neighbour's cut gyro is taken as restored)
+            unusable = acc_cut.get(sensor, no_cut) | acc_cut.get(other, no_cut)
+            links.append(JointLink(here_c, there_c, trial.acc[other], gyr[other], unusable))
+        restored = restore_cut_segment_gyro(
+            gyr[sensor], trial.acc[sensor], trial.rate_hz, cut[sensor].axes, links, params
+        )
+        gyr[sensor], out[sensor] = restored.gyr_rps, restored
+    return replace(trial, gyr=gyr), out
 
 
 def process_trial(
@@ -546,7 +583,6 @@ def process_trial(
     clock = _Stopwatch(progress)
     found = trial_saturation(trial.acc, trial.gyr)
     warn_saturation(found)
-    foot_cut = next((s for s in found if s.sensor == "foot" and s.signal == "gyr"), None)
     warn_held_samples(trial.acc, trial.gyr, trial.rate_hz)
     still = trial.still_period()  # detected once, handed on
     reference = trial.reference_samples(still)
@@ -556,8 +592,12 @@ def process_trial(
     cal_options = replace(calibration_options or CalibrationOptions(), prior_stature_m=height_m)
     _warn_rest_gravity(trial, still, cal_options)
     trial, calib = _calibrate_synchronised(trial, method, still, calibration, cal_options)
-    # after the calibration, which leaves the cut samples out of its centre fits instead
-    trial, restore = _restored_foot_gyro(trial, foot_cut, gait_params or GaitParams())
+    # after the calibration, which leaves the cut samples out of its centre fits instead; found
+    # again, as the clock search may have re-timed the sensors
+    found = trial_saturation(trial.acc, trial.gyr) if found else []
+    trial, restore = _restored_foot_gyro(trial, found, gait_params or GaitParams())
+    trial, segment_restore = _restored_segment_gyros(trial, calib, found, gait_params or GaitParams())
+    foot_cut = next((s for s in found if s.sensor == "foot" and s.signal == "gyr"), None)
     up = {s: trial.acc[s][reference].mean(axis=0) for s in ("thigh", "shank")}
     calib = with_plausible_lengths(calib, up, height_m=height_m)
     clock.stop("joint calibration", "" if calibration is None else "reused, not estimated")
@@ -637,4 +677,5 @@ def process_trial(
         orientations.smoothed_wxyz,
         foot_cut,
         restore,
+        segment_restore,
     )

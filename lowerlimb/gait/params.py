@@ -83,6 +83,13 @@ class GaitParams:
         cut_rate_prior_min_rps: ... and at least this, rad/s.
         cut_rate_rest_s: The foot's gravity direction at a rest is the mean of its
             accelerometer over this long at the rest's end next to the swing, s.
+        cut_segment_fit: Fit a cut thigh or shank gyro run's height to its joints'
+            accelerations (:mod:`lowerlimb.gait.cut_segment`); ``False``: its parabola prior.
+        cut_segment_acc_sd_mps2: SD of a joint centre's acceleration norm seen from the two
+            sensors, the weight of a cut thigh or shank gyro run's joint equations
+            (:mod:`lowerlimb.gait.cut_segment`), m/s².
+        cut_segment_margin_s: The joint equations of a cut run are taken over the run and
+            this long on either side, s (at least the angular acceleration's window).
         walking_gyro_rps: A sample counts as walking for the principal-axis fit when
             the smoothed shank gyro norm exceeds this, rad/s.
         shoe_window_s: Window of the SHOE detector (Skog et al. 2010, eq. 8), s.
@@ -186,6 +193,9 @@ class GaitParams:
     cut_rate_prior_fraction: float = 0.5
     cut_rate_prior_min_rps: float = 1.0
     cut_rate_rest_s: float = 0.05
+    cut_segment_fit: bool = True
+    cut_segment_acc_sd_mps2: float = 2.0
+    cut_segment_margin_s: float = 0.05
     min_event_rate_hz: float | None = 100.0
     walking_gyro_rps: float = 1.0
     shoe_window_s: float = 0.05
@@ -265,6 +275,8 @@ class GaitParams:
             "cut_rate_prior_fraction",
             "cut_rate_prior_min_rps",
             "cut_rate_rest_s",
+            "cut_segment_acc_sd_mps2",
+            "cut_segment_margin_s",
         )
         for name in cut_rate:
             if not 0 < getattr(self, name) < np.inf:
