@@ -13,14 +13,18 @@ goes beyond it. Each row cuts every sensor's accelerometer and/or gyro of a tria
 - *cut %*: the largest share of one sensor's samples beyond the range;
 - segment lengths (hip and ankle centre to the knee axis) against the truth (simulated) or
   Vicon Plug-in Gait (real), mm; stride length %, step width mm, initial contact ms (simulated)
-  and the worst angle RMSE of either leg, degrees (simulated: all nine angles; real: knee and
+  and the worst knee angle and the worst angle RMSE of either leg, degrees (simulated: all nine
+  angles; real: each knee's flexion, and the worst of knee and
   hip flexion against Vicon);
 - *left out*: the default, the cut samples (and 50 ms around them) left out of the hip and
   ankle fits (``CalibrationOptions.saturation_exclusion``); *fitted*: with
   ``saturation_exclusion=False``;
 - *restored*: the default, a cut foot accelerometer's lost force given back swing by swing
-  from the zero-velocity updates (:mod:`lowerlimb.gait.cut_force`); *not restored*: with
-  ``GaitParams(cut_restore=False)``.
+  from the zero-velocity updates (:mod:`lowerlimb.gait.cut_force`), a cut foot gyro's rotation
+  from its rests (:mod:`lowerlimb.gait.cut_rate`), a cut thigh or shank gyro's from the
+  parabola through each run's neighbours refined by its joints (:mod:`lowerlimb.gait.cut_segment`);
+  *not restored*: with ``GaitParams(cut_restore=False)``; *parabola only*: the thigh's and
+  shank's runs at their parabola (``GaitParams(cut_segment_fit=False)``).
 
 Sources: seven-IMU simulated walks (``simulate_bilateral``, seeds 201–203, 60 s, normal pace)
 and the real walk (``gait/``, Xsens MTw, which record at ±16 g and ±2000 °/s; its largest
@@ -56,26 +60,38 @@ from _realwalk import IDS, load_vicon, raw_dir  # noqa: E402
 from _results import real_data_main  # noqa: E402
 
 SIM_SEEDS = (201, 202, 203)
-#: (label, accelerometer range in g, gyro range in °/s, cut samples left out, feet's cut force
-#: restored); 0: not cut.
-ROWS: tuple[tuple[str, float, float, bool, bool], ...] = (
-    ("as recorded", 0, 0, True, True),
-    ("±2 g", 2, 0, True, True),
-    ("±2 g, not restored", 2, 0, True, False),
-    ("±2 g, fitted", 2, 0, False, True),
-    ("±4 g", 4, 0, True, True),
-    ("±8 g", 8, 0, True, True),
-    ("±250 °/s", 0, 250, True, True),
-    ("±250 °/s, not restored", 0, 250, True, False),
-    ("±250 °/s, fitted", 0, 250, False, True),
-    ("±300 °/s", 0, 300, True, True),
-    ("±350 °/s", 0, 350, True, True),
-    ("±500 °/s", 0, 500, True, True),
-    ("±1000 °/s", 0, 1000, True, True),
-    ("±2 g, ±250 °/s (MPU-6050 default)", 2, 250, True, True),
-    ("±2 g, ±250 °/s, not restored", 2, 250, True, False),
-    ("±4 g, ±500 °/s", 4, 500, True, True),
+#: (label, accelerometer range in g, gyro range in °/s, cut samples left out, restoration:
+#: "all" (the default), "none" (``cut_restore=False``) or "parabola" (``cut_segment_fit=False``));
+#: 0: not cut.
+ROWS: tuple[tuple[str, float, float, bool, str], ...] = (
+    ("as recorded", 0, 0, True, "all"),
+    ("±2 g", 2, 0, True, "all"),
+    ("±2 g, not restored", 2, 0, True, "none"),
+    ("±2 g, fitted", 2, 0, False, "all"),
+    ("±4 g", 4, 0, True, "all"),
+    ("±8 g", 8, 0, True, "all"),
+    ("±250 °/s", 0, 250, True, "all"),
+    ("±250 °/s, not restored", 0, 250, True, "none"),
+    ("±250 °/s, parabola only", 0, 250, True, "parabola"),
+    ("±250 °/s, fitted", 0, 250, False, "all"),
+    ("±300 °/s", 0, 300, True, "all"),
+    ("±300 °/s, parabola only", 0, 300, True, "parabola"),
+    ("±350 °/s", 0, 350, True, "all"),
+    ("±350 °/s, parabola only", 0, 350, True, "parabola"),
+    ("±500 °/s", 0, 500, True, "all"),
+    ("±1000 °/s", 0, 1000, True, "all"),
+    ("±2 g, ±250 °/s (MPU-6050 default)", 2, 250, True, "all"),
+    ("±2 g, ±250 °/s, not restored", 2, 250, True, "none"),
+    ("±2 g, ±250 °/s, parabola only", 2, 250, True, "parabola"),
+    ("±4 g, ±500 °/s", 4, 500, True, "all"),
 )
+
+#: GaitParams of each restoration.
+RESTORATION = {
+    "all": GaitParams(),
+    "none": GaitParams(cut_restore=False),
+    "parabola": GaitParams(cut_segment_fit=False),
+}
 
 
 def _limits(acc_g: float, gyr_dps: float) -> dict[str, float]:
@@ -123,10 +139,10 @@ def _found(trial: BilateralTrial, limits: dict[str, float], record: dict[str, An
     return cut_trial
 
 
-def _sim_row(gait: ModuleType, acc_g: float, gyr_dps: float, left_out: bool, restore: bool) -> dict[str, Any]:
+def _sim_row(gait: ModuleType, acc_g: float, gyr_dps: float, left_out: bool, restore: str) -> dict[str, Any]:
     limits = _limits(acc_g, gyr_dps)
     options = CalibrationOptions(saturation_exclusion=left_out)
-    gait_params = GaitParams(cut_restore=restore)
+    gait_params = RESTORATION[restore]
     trials, checks = [], []
     for seed in SIM_SEEDS:
         record: dict[str, Any] = {}
@@ -138,7 +154,9 @@ def _sim_row(gait: ModuleType, acc_g: float, gyr_dps: float, left_out: bool, res
         )
         checks.append(record)
     pooled = gait.summarise_simulation(trials)
-    worst = max(max(v.values()) for v in pooled["angle_rmse_deg"]["worst"].values())
+    by_angle = pooled["angle_rmse_deg"]["worst"]
+    worst = max(max(v.values()) for v in by_angle.values())
+    knee = max(v[k] for v in by_angle.values() for k in v if k.startswith("knee"))
     return {
         "found": sum(len(c["found"]) for c in checks),
         "beyond": sum(len(c["beyond"]) for c in checks),
@@ -150,6 +168,7 @@ def _sim_row(gait: ModuleType, acc_g: float, gyr_dps: float, left_out: bool, res
         "step_width_mm": pooled["step_width_mm"],
         "initial_contact_ms": pooled["initial_contact"],
         "worst_angle_rmse_deg": worst,
+        "worst_knee_rmse_deg": knee,
     }
 
 
@@ -158,7 +177,7 @@ def _real_row(
     vicon: dict[str, Any],
     bg: ModuleType,
     ge: ModuleType,
-    row: tuple[str, float, float, bool, bool],
+    row: tuple[str, float, float, bool, str],
 ) -> dict[str, Any]:
     _, acc_g, gyr_dps, left_out, restore = row
     record: dict[str, Any] = {}
@@ -168,7 +187,7 @@ def _real_row(
         res = process_bilateral_trial(
             trial,
             calibration_options=CalibrationOptions(saturation_exclusion=left_out),
-            gait_params=GaitParams(cut_restore=restore),
+            gait_params=RESTORATION[restore],
         )
     legs = bg.score_legs(res, vicon)
     strides = bg.score_strides(res, vicon, ge)
@@ -184,6 +203,7 @@ def _real_row(
         "worst_flexion_rmse_deg": max(
             legs[s][k] for s in SIDES for k in ("knee_flexion_rmse_deg", "hip_flexion_rmse_deg")
         ),
+        "knee_flexion_rmse_deg": [legs[s]["knee_flexion_rmse_deg"] for s in SIDES],
     }
 
 
@@ -224,7 +244,8 @@ def _sim_line(r: dict[str, Any]) -> str:
     return (
         f"| {r['label']} | {s['found']} / {s['beyond']} | {100 * s['cut_share']:.1f} | {lengths} | "
         f"{_f(s['stride_length_pct']['median_abs'])} | {_f(s['step_width_mm']['median_abs'], '.0f')} | "
-        f"{_f(s['initial_contact_ms']['median_abs'])} | {_f(s['worst_angle_rmse_deg'])} |"
+        f"{_f(s['initial_contact_ms']['median_abs'])} | {_f(s['worst_knee_rmse_deg'])} | "
+        f"{_f(s['worst_angle_rmse_deg'])} |"
     )
 
 
@@ -234,7 +255,8 @@ def _real_line(r: dict[str, Any]) -> str:
     stride, width = s["stride_length_pct"].get("median_abs"), s["step_width_mm"].get("median_abs")
     return (
         f"| {r['label']} | {s['found']} / {s['beyond']} | {100 * s['cut_share']:.1f} | {le} | "
-        f"{_f(stride)} | {_f(width, '.0f')} | {_f(s['worst_flexion_rmse_deg'])} |"
+        f"{_f(stride)} | {_f(width, '.0f')} | {' / '.join(_f(v) for v in s['knee_flexion_rmse_deg'])} | "
+        f"{_f(s['worst_flexion_rmse_deg'])} |"
     )
 
 
@@ -249,26 +271,30 @@ def markdown(res: dict[str, Any]) -> str:
         "input check reports cut, against those that go beyond the range in three places or more, or for "
         "three samples in a row where the trial's signals of that kind go beyond it in three places or more. "
         "*fitted*: the cut samples kept in the hip and ankle fits (`saturation_exclusion=False`); "
-        "every other row leaves them out (the default). *not restored*: the feet's cut signals used "
+        "every other row leaves them out (the default). *not restored*: the cut signals used "
         "as recorded (`GaitParams(cut_restore=False)`); every other row gives a cut foot gyro's swings "
-        "the rotation that carries the foot's tilt from rest to rest (`lowerlimb.gait.cut_rate`) and a "
+        "the rotation that carries the foot's tilt from rest to rest (`lowerlimb.gait.cut_rate`), a "
         "cut foot accelerometer's swings the force that brings the foot to rest "
-        "(`lowerlimb.gait.cut_force`), the default. Step width is `–` (null in gait.json) wherever a "
+        "(`lowerlimb.gait.cut_force`) and a cut thigh or shank gyro's runs the rotation of the parabola "
+        "through their neighbours refined by the joints' acceleration norms (`lowerlimb.gait.cut_segment`), "
+        "the default; *parabola only*: the thigh's and shank's runs at the parabola "
+        "(`GaitParams(cut_segment_fit=False)`). Step width is `–` (null in gait.json) wherever a "
         "foot gyro is cut, restored or not: its turns about gravity are lost and the two feet's "
         "tracks cannot be placed against each other.",
         "",
         f"## Simulated seven-IMU walks (seeds {seeds}, 60 s), against the truth",
         "",
         "| range | found / beyond | cut % (worst sensor) | thigh / shank length error mm, median (worst) "
-        "| stride length % | step width mm | initial contact ms | worst angle RMSE ° |",
-        "|---|---|---|---|---|---|---|---|",
+        "| stride length % | step width mm | initial contact ms | worst knee angle RMSE ° | worst angle RMSE ° |",
+        "|---|---|---|---|---|---|---|---|---|",
         *[_sim_line(r) for r in res["rows"]],
         "",
         "## Real walk (Xsens MTw at ±16 g and ±2000 °/s), against Vicon",
         "",
         "| range | found / beyond | cut % (worst sensor) | length error mm, left thigh / shank, right "
-        "thigh / shank | stride length % | step width mm | worst hip or knee flexion RMSE ° |",
-        "|---|---|---|---|---|---|---|",
+        "thigh / shank | stride length % | step width mm | knee flexion RMSE ° left / right "
+        "| worst hip or knee flexion RMSE ° |",
+        "|---|---|---|---|---|---|---|---|",
         *[_real_line(r) for r in res["rows"]],
         "",
     ]
