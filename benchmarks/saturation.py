@@ -285,7 +285,8 @@ def markdown(res: dict[str, Any]) -> str:
         f"## Simulated seven-IMU walks (seeds {seeds}, 60 s), against the truth",
         "",
         "| range | found / beyond | cut % (worst sensor) | thigh / shank length error mm, median (worst) "
-        "| stride length % | step width mm | initial contact ms | worst knee angle RMSE ° | worst angle RMSE ° |",
+        "| stride length % | step width mm | initial contact ms | worst knee angle RMSE ° "
+        "| worst angle RMSE ° |",
         "|---|---|---|---|---|---|---|---|---|",
         *[_sim_line(r) for r in res["rows"]],
         "",
