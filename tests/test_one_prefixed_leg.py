@@ -92,3 +92,14 @@ def test_a_study_reads_the_side_from_the_names(right_leg, tmp_path) -> None:
     assert result.processed == 1
     cal = json.loads((tmp_path / "out" / "walk" / "calibration.json").read_text())
     assert cal["side"] == "right"
+
+
+def test_an_import_mapping_of_one_prefixed_leg_says_how_to_name_it() -> None:
+    from lowerlimb.io.errors import MappingError
+    from lowerlimb.io.recording import sensor_layout
+
+    with pytest.raises(MappingError, match="one leg: name its sensors pelvis, thigh, shank, foot"):
+        sensor_layout(["pelvis", "left_thigh", "left_shank", "left_foot"])
+    with pytest.raises(MappingError) as e:
+        sensor_layout(["pelvis", "left_thigh", "left_shank", "left_foot", "right_thigh"])
+    assert "one leg" not in str(e.value)

@@ -50,9 +50,15 @@ def sensor_layout(names: Iterable[str], field_name: str = "sensors") -> tuple[st
             f"{', '.join(SENSORS)} or {', '.join(TWO_LEG_SENSORS)}",
         )
     if missing:
+        sides = {n.split("_", 1)[0] for n in given if n in TWO_LEG_SENSORS[1:]}
+        one_leg = (
+            f" (one leg: name its sensors {', '.join(SENSORS)} and give its side)"
+            if layout == TWO_LEG_SENSORS and len(sides) == 1
+            else ""
+        )
         raise MappingError(
             f"{field_name}.{missing[0]}",
-            f"no sensor given for {', '.join(missing)}; a trial needs all of {', '.join(layout)}",
+            f"no sensor given for {', '.join(missing)}; a trial needs all of {', '.join(layout)}{one_leg}",
         )
     return layout
 
