@@ -125,10 +125,9 @@ class _Window:
             for k in links
         ]
 
-    @property
-    def usable(self) -> int:
-        """Joint equations left in the window."""
-        return sum(self.hi - self.lo if k is None else int(k.sum()) for k in self.keep)
+    def usable(self, a: int, b: int) -> int:
+        """Joint equations left over the window's samples ``[a, b)``."""
+        return sum(b - a if k is None else int(k[a:b].sum()) for k in self.keep)
 
     def residual(self, w: FloatArray) -> FloatArray:
         """(links · M,) ‖a_here‖ − ‖a_there‖ at each joint with the window's gyro ``w``, m/s²."""
@@ -196,7 +195,7 @@ def restore_cut_segment_gyro(
         lo, hi = max(0, a - margin), min(n, b + margin)
         restored[a:b] -= heights[i] * shapes[i]  # this run's hump is the unknown
         window = _Window(restored, f, links, keep, (lo, hi), rate_hz)
-        if window.usable >= b - a:  # else the prior stands
+        if window.usable(a - lo, b - lo) >= b - a:  # else the prior stands
             heights[i] = _height(window, shapes[i], a - lo, priors[i], p)
         restored[a:b] += heights[i] * shapes[i]
     lost = [np.degrees(h * np.abs(s).sum() / rate_hz) for h, s in zip(heights, shapes, strict=True)]
