@@ -28,8 +28,15 @@ lost. So each run's height solves
 over the run and ``margin`` samples on either side (``α`` is the Savitzky–Golay derivative
 of :mod:`lowerlimb.constraints.angular_acceleration`, which spreads a hump's edges), with
 ``scipy.optimize.least_squares`` (bounds ``h ≥ 0``), the signals smoothed by the same filter.
-Runs are restored one after another in time; a run on another axis of the same sensor keeps
-its prior while this one is solved.
+Runs are restored one after another in time, every other run at its prior or its solved height.
+Samples where either sensor's accelerometer is cut at its range (and the smoothing window around
+them) say nothing of the run; a run left with fewer joint equations inside it than it has samples
+(one joint's worth) keeps its prior.
+
+What it does downstream is in ``benchmarks/results/saturation.md`` (±250 °/s: the simulated knees'
+worst angle 5.9 → 1.5° RMSE, the real walk's knee flexion against Vicon 12.1 / 6.9 → 11.8 / 5.8°,
+uncut 10.5 / 4.7; the parabola alone, ``GaitParams.cut_segment_fit=False``: 1.4° and 11.5 / 5.5°,
+but 6.0° for 4.8 on the real walk's right knee at ±350 °/s).
 """
 
 from __future__ import annotations
