@@ -192,19 +192,24 @@ def test_the_cli_warns_in_one_line_and_still_calibrates(tmp_path: Path, capsys) 
     assert "±2 g" not in cut[0] and "(2 g)" in cut[0] and "±8 g or more" in cut[0]
 
 
-@pytest.mark.data
-@pytest.mark.skipif(DATA is None or not (DATA / "gait").is_dir(), reason="real-walk data absent")
-def test_real_walk() -> None:
-    """The real walk is never cut (its largest readings are 3.0 g and 460 °/s); cut at ±2 g and
-    ±250 °/s, its sensors that go beyond in several places are found, and the two-leg
-    pipeline says so for each, naming the leg."""
+def _real_walk():
+    """The shared data's real walk (its sensor IDs from the benchmarks' helper)."""
     assert DATA is not None
     path = Path(__file__).resolve().parents[1] / "benchmarks" / "_realwalk.py"
     spec = importlib.util.spec_from_file_location("realwalk_ids_sat", path)
     assert spec is not None and spec.loader is not None
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
-    rec = load_xsens(mod.raw_dir(DATA), mod.IDS)
+    return load_xsens(mod.raw_dir(DATA), mod.IDS)
+
+
+@pytest.mark.data
+@pytest.mark.skipif(DATA is None or not (DATA / "gait").is_dir(), reason="real-walk data absent")
+def test_real_walk() -> None:
+    """The real walk is never cut (its largest readings are 3.0 g and 460 °/s); cut at ±2 g and
+    ±250 °/s, its sensors that go beyond in several places are found, and the two-leg
+    pipeline says so for each, naming the leg."""
+    rec = _real_walk()
     assert trial_saturation(rec.acc, rec.gyr) == []
     gyr = _clip(rec.gyr, DPS250)
     found = {s.sensor for s in trial_saturation(rec.acc, gyr)}
@@ -234,13 +239,7 @@ def test_real_walk_cut_at_300_dps_keeps_both_knees_flexing() -> None:
     from lowerlimb.bilateral.process import process_bilateral_trial
     from lowerlimb.io.bilateral_trial import BilateralTrial
 
-    assert DATA is not None
-    path = Path(__file__).resolve().parents[1] / "benchmarks" / "_realwalk.py"
-    spec = importlib.util.spec_from_file_location("realwalk_ids_sat300", path)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    rec = load_xsens(mod.raw_dir(DATA), mod.IDS)
+    rec = _real_walk()
     results = {}
     for label, gyr in (("uncut", rec.gyr), ("cut", _clip(rec.gyr, np.deg2rad(300.0)))):
         with warnings.catch_warnings():
