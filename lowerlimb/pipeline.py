@@ -595,8 +595,9 @@ def process_trial(
     # after the calibration, which leaves the cut samples out of its centre fits instead; found
     # again, as the clock search may have re-timed the sensors
     found = trial_saturation(trial.acc, trial.gyr) if found else []
-    trial, restore = _restored_foot_gyro(trial, found, gait_params or GaitParams())
-    trial, segment_restore = _restored_segment_gyros(trial, calib, found, gait_params or GaitParams())
+    gp = gait_params or GaitParams()
+    trial, restore = _restored_foot_gyro(trial, found, gp)
+    trial, segment_restore = _restored_segment_gyros(trial, calib, found, gp)
     foot_cut = next((s for s in found if s.sensor == "foot" and s.signal == "gyr"), None)
     up = {s: trial.acc[s][reference].mean(axis=0) for s in ("thigh", "shank")}
     calib = with_plausible_lengths(calib, up, height_m=height_m)
