@@ -92,8 +92,15 @@ def test_the_two_leg_pipeline_restores_cut_shanks(walk) -> None:
         knees = [3, 12]
         err = np.rad2deg(res.angles_rad[:, knees] - walk.angles_rad[:, knees])[300:]
         errors[label] = np.sqrt(np.mean(err**2, axis=0))
+        said = res.gait.to_dict()["cut_gyro_restored"]
         if label == "restored":
             assert set(res.legs["left"].segment_gyro_restore) >= {"shank"}
+            shank = said["left"]["shank"]
+            assert shank["runs"] > 10 and 5.0 < shank["rotation_deg_median"] < 12.0, shank
+            foot = said["left"]["foot"]
+            assert foot["tilt_deg_after_median"] < foot["tilt_deg_before_median"], foot
+        else:
+            assert said is None
     assert np.all(errors["as cut"] > 2.5), errors
     assert np.all(errors["restored"] < 1.5), errors
 

@@ -59,6 +59,7 @@ __all__ = [
     "UnanchoredFeetWarning",
     "analyse_gait",
     "chain_anchor",
+    "gyro_restorations",
 ]
 
 
@@ -89,6 +90,8 @@ class BilateralGait:
             ``None`` without events.
         unplaced: why the feet were not placed against each other although they could be
             anchored (a cut foot gyro), or ``""``.
+        gyro_restored: ``{side: {sensor: …}}`` what the cut gyros got back
+            (:func:`gyro_restorations`); empty without a cut gyro.
     """
 
     events: GaitEvents | None
@@ -99,6 +102,7 @@ class BilateralGait:
     note: str = ""
     turns: Turns | None = None
     unplaced: str = ""
+    gyro_restored: dict[str, dict[str, dict[str, Any]]] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         """The docs/formats.md ``gait.json`` content (NaN as ``None``), with the anchor and offsets."""
@@ -120,6 +124,7 @@ class BilateralGait:
         d["turns"] = None if self.turns is None else self.turns.to_dict()
         d["cut_force_restored"] = {s: _restored(t) for s, t in self.trajectories.items()} or None
         d["steps_unplaced"] = self.unplaced or None
+        d["cut_gyro_restored"] = self.gyro_restored or None
         return _json_safe(d)
 
 
@@ -133,6 +138,36 @@ def _restored(track: FootTrajectory) -> dict[str, Any] | None:
         "velocity_mps_median": float(np.median(v)),
         "velocity_mps_max": float(v.max()),
     }
+
+
+def gyro_restorations(legs: dict[str, TrialResult]) -> dict[str, dict[str, dict[str, Any]]]:
+    """``{side: {sensor: …}}`` what each leg's cut gyros got back, for ``gait.json``.
+
+    A foot (:mod:`lowerlimb.gait.cut_rate`): ``swings`` restored and the tilt mismatch from one
+    rest to the next before and after (``tilt_deg_before_median``, ``tilt_deg_after_median``).
+    A thigh or shank (:mod:`lowerlimb.gait.cut_segment`): ``runs`` restored and the rotation they
+    got back (``rotation_deg_median``, ``rotation_deg_max``).
+    """
+    out: dict[str, dict[str, dict[str, Any]]] = {}
+    for side, leg in legs.items():
+        mine: dict[str, dict[str, Any]] = {}
+        foot = leg.foot_gyro_restore
+        if foot is not None and foot.swings:
+            mine["foot"] = {
+                "swings": foot.swings,
+                "tilt_deg_before_median": float(np.median(foot.tilt_before_deg)),
+                "tilt_deg_after_median": float(np.median(foot.tilt_after_deg)),
+            }
+        for sensor, r in leg.segment_gyro_restore.items():
+            if r.lost_deg.size:
+                mine[sensor] = {
+                    "runs": int(r.lost_deg.size),
+                    "rotation_deg_median": float(np.median(r.lost_deg)),
+                    "rotation_deg_max": float(r.lost_deg.max()),
+                }
+        if mine:
+            out[side] = mine
+    return out
 
 
 def _json_safe(x: Any) -> Any:
@@ -248,7 +283,7 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
         warnings.warn(
             f"{note}; events.csv is empty and gait.json has no parameters", NoGaitWarning, stacklevel=2
         )
-        return BilateralGait(None, None, None, offsets, note=note)
+        return BilateralGait(None, None, None, offsets, note=note, gyro_restored=gyro_restorations(legs))
     trajs: dict[str, FootTrajectory] = {}
     for s, ev in (("left", events.left), ("right", events.right)):
         assert ev is not None and ev.stationary is not None
@@ -284,7 +319,16 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
     t0 = float(trial.time_s[0])
     shifted = GaitEvents(left=_shift(events.left, t0), right=_shift(events.right, t0), extras=events.extras)
     turns = walker_turns(legs["left"], shifted, p)
-    return BilateralGait(shifted, parameters, anchor, offsets, trajs, turns=turns, unplaced=unplaced)
+    return BilateralGait(
+        shifted,
+        parameters,
+        anchor,
+        offsets,
+        trajs,
+        turns=turns,
+        unplaced=unplaced,
+        gyro_restored=gyro_restorations(legs),
+    )
 
 
 def _cut_foot_acc(trial: ImuTrial) -> Saturation | None:
