@@ -107,6 +107,8 @@ class TrialResult:
             (``smooth_orientation=False``: forward only).
         foot_gyro_cut: the foot gyro found cut at its range (:mod:`lowerlimb.io.saturation`), or
             ``None``.
+        foot_acc_cut: the foot accelerometer found cut at its range, or ``None`` (the two-leg
+            foot tracks restore its swings, :mod:`lowerlimb.gait.cut_force`).
         foot_gyro_restore: its swings restored between the foot's rests
             (:mod:`lowerlimb.gait.cut_rate`; ``trial`` holds the restored gyro), or ``None``
             (not cut, or ``GaitParams.cut_restore`` off).
@@ -130,6 +132,7 @@ class TrialResult:
     quat_smoothed_wxyz: dict[str, FloatArray] | None = None
     foot_gyro_cut: Saturation | None = None
     foot_gyro_restore: RateRestore | None = None
+    foot_acc_cut: Saturation | None = None
     segment_gyro_restore: dict[str, SegmentRestore] = field(default_factory=dict)
 
     @property
@@ -599,6 +602,7 @@ def process_trial(
     trial, restore = _restored_foot_gyro(trial, found, gp)
     trial, segment_restore = _restored_segment_gyros(trial, calib, found, gp)
     foot_cut = next((s for s in found if s.sensor == "foot" and s.signal == "gyr"), None)
+    foot_acc_cut = next((s for s in found if s.sensor == "foot" and s.signal == "acc"), None)
     up = {s: trial.acc[s][reference].mean(axis=0) for s in ("thigh", "shank")}
     calib = with_plausible_lengths(calib, up, height_m=height_m)
     clock.stop("joint calibration", "" if calibration is None else "reused, not estimated")
@@ -678,5 +682,6 @@ def process_trial(
         orientations.smoothed_wxyz,
         foot_cut,
         restore,
+        foot_acc_cut,
         segment_restore,
     )

@@ -47,8 +47,6 @@ from ..gait import (
 )
 from ..gait.placement import mean_walking_direction
 from ..gait.turns import Turns, detect_turns, vertical_rate
-from ..io.saturation import Saturation, trial_saturation
-from ..io.trial import ImuTrial
 from ..pipeline import TrialResult
 from .chain_steps import chain_steps
 
@@ -287,7 +285,7 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
     trajs: dict[str, FootTrajectory] = {}
     for s, ev in (("left", events.left), ("right", events.right)):
         assert ev is not None and ev.stationary is not None
-        cut = _cut_foot_acc(legs[s].trial) if p.cut_restore else None
+        cut = legs[s].foot_acc_cut if p.cut_restore else None
         tr = integrate_foot(
             gyr[s, "foot"],
             legs[s].trial.acc["foot"],
@@ -329,12 +327,6 @@ def analyse_gait(legs: dict[str, TrialResult], params: GaitParams | None = None)
         unplaced=unplaced,
         gyro_restored=gyro_restorations(legs),
     )
-
-
-def _cut_foot_acc(trial: ImuTrial) -> Saturation | None:
-    """The leg's foot accelerometer found cut, seen with the leg's other sensors (a shared range)."""
-    found = trial_saturation(trial.acc, {})
-    return next((s for s in found if s.sensor == "foot"), None)
 
 
 def _cut_foot_gyros(legs: dict[str, TrialResult]) -> str:

@@ -196,9 +196,8 @@ def restore_cut_segment_gyro(
     restored = w.copy()
     for (a, b, _, _), h, shape in zip(found, heights, shapes, strict=True):
         restored[a:b] += h * shape
-    for i, (a, b, _, _) in enumerate(found):
-        if not links or n < 2 * margin:
-            break
+    fitted = found if links and n >= 2 * margin else []  # else every run keeps its prior
+    for i, (a, b, _, _) in enumerate(fitted):
         lo, hi = max(0, a - margin), min(n, b + margin)
         restored[a:b] -= heights[i] * shapes[i]  # this run's hump is the unknown
         window = _Window(restored, f, links, keep, (lo, hi), rate_hz)
