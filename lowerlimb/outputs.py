@@ -359,7 +359,9 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
             f"{options.calibration} is of the {previous.side} leg but the trial is the {options.side} "
             f"leg; pass --side {previous.side} or another calibration"
         )
-    trial = ImuTrial.from_csv(options.trial, side=options.side, use_mag=options.use_mag)
+    with warnings.catch_warnings(record=True) as read_warnings:  # said with the run's, once it runs
+        warnings.simplefilter("always")
+        trial = ImuTrial.from_csv(options.trial, side=options.side, use_mag=options.use_mag)
     if previous is None:
         trial.check_motion(INPUT_BOUNDS.min_motion_gyro_std_rps)
     provenance = build_provenance(options)
@@ -384,7 +386,7 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
             side_check=options.side_check,
             smooth_orientation=options.smooth_orientation,
         )
-    _print_warnings(caught)
+    _print_warnings(read_warnings + caught)
     agreement = None
     if reference is not None:
         agreement = compare_result(result.trial.time_s, result.angles_rad, result.positions_m, reference)

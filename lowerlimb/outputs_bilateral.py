@@ -304,7 +304,9 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
                 f"or import one leg as a four-sensor trial)"
             )
     files = check_outputs(options.outputs)
-    trial = BilateralTrial.from_csv(options.trial)
+    with warnings.catch_warnings(record=True) as read_warnings:  # said with the run's, once it runs
+        warnings.simplefilter("always")
+        trial = BilateralTrial.from_csv(options.trial)
     trial.check_motion(INPUT_BOUNDS.min_motion_gyro_std_rps)
     check_method(options.method)
     announce(options, trial.n_samples, trial.rate_hz, trial.duration_s, "two legs")
@@ -322,7 +324,7 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
             side_check=options.side_check,
             smooth_orientation=options.smooth_orientation,
         )
-    _print_warnings(caught)
+    _print_warnings(read_warnings + caught)
     write_bilateral_result(
         result, out, files=files, exports=tuple(options.exports), provenance=build_provenance(options)
     )

@@ -9,6 +9,7 @@ from lowerlimb.errors import (
     TooShortError,
     UnitError,
 )
+from lowerlimb.io import PacketGapError
 from lowerlimb.io.trial import ImuTrial, PartialMagnetometerWarning, StandingStartWarning
 
 
@@ -69,14 +70,22 @@ def test_non_increasing_time(tmp_path):
         ImuTrial.from_csv(_write(tmp_path, _trial(), back))
 
 
-def test_uneven_time(tmp_path):
+def test_a_gap_too_long_to_fill_is_refused(tmp_path):
     def gap(h, d):
         d = d.copy()
-        d[200:, 0] += 0.05
+        d[200:, 0] += 0.5
         return h, d
 
-    with pytest.raises(TimeAxisError, match="resample the trial to a constant rate"):
+    with pytest.raises(PacketGapError, match=r"gap of 0.51 s at 1.990 s.*cut the recording"):
         ImuTrial.from_csv(_write(tmp_path, _trial(), gap))
+
+
+def test_uneven_time_built_in_code_is_refused():
+    trial = _trial()
+    t = trial.time_s.copy()
+    t[200:] += 0.05
+    with pytest.raises(TimeAxisError, match="resample the trial to a constant rate.*on_uniform_clock"):
+        ImuTrial(t, trial.acc, trial.gyr, trial.mag, "left").validate()
 
 
 def test_gyro_in_degrees(tmp_path):

@@ -32,6 +32,7 @@ from .trial import (
     check_unique_columns,
     column_names,
     has_all_mag,
+    on_uniform_clock,
     one_side_prefix,
     read_numbers,
     unreadable_csv,
@@ -221,7 +222,8 @@ class BilateralTrial(TimeAxis):
         gyr = {s: block(s, "gyr") for s in TWO_LEG_SENSORS}
         has_mag = has_all_mag(header, TWO_LEG_SENSORS)
         mag = {s: block(s, "mag") for s in TWO_LEG_SENSORS} if has_mag else None
-        trial = cls(raw[:, col["time"]].copy(), acc, gyr, mag, source=path)
+        time_s, acc, gyr, mag = on_uniform_clock(raw[:, col["time"]].copy(), acc, gyr, mag)
+        trial = cls(time_s, acc, gyr, mag, source=path)
         trial.validate()
         return trial
 

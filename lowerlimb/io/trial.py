@@ -40,13 +40,12 @@ from ..stillness import StillPeriod, detect_still_period
 from .bounds import INPUT_BOUNDS
 from .text_file import BINARY_MAGIC
 from .time_axis import TimeAxis, guess_time_unit, require_increasing
+from .uneven_clock import CLOCK_PARAMS, to_uniform_clock
 
 #: Lowest sampling rate accepted, Hz: below it the time column is taken to be in ms.
 MIN_RATE_HZ = 5.0
 #: Shortest trial accepted, s.
 MIN_DURATION_S = 2.0
-#: Largest relative deviation of one time step from the median step.
-TIME_JITTER_TOLERANCE = 0.25
 
 
 class IdenticalSensorsError(InputError):
@@ -248,11 +247,11 @@ class ImuTrial(TimeAxis):
                 else f"time steps of {med:.4g} are too long for seconds (a rate of {1.0 / med:.3g} Hz); "
                 f"the trial format expects the time in seconds",
             )
-        if np.max(np.abs(dt - med)) > TIME_JITTER_TOLERANCE * med:
+        if np.max(np.abs(dt - med)) > CLOCK_PARAMS.jitter_tolerance * med:
             raise TimeAxisError(
                 f"time steps vary from {dt.min():.4g} s to {dt.max():.4g} s (median {med:.4g} s); "
-                f'resample the trial to a constant rate (`lowerlimb import csv` with "resample_hz" in '
-                f"its mapping does it)"
+                f"resample the trial to a constant rate (lowerlimb.io.trial.on_uniform_clock does it, "
+                f"and reading the trial CSV applies it)"
             )
         for sensor in SENSORS:
             gmax = float(np.max(np.linalg.norm(self.gyr[sensor], axis=1)))
@@ -423,7 +422,8 @@ class ImuTrial(TimeAxis):
         acc = {s: block(s, "acc") for s in SENSORS}
         gyr = {s: block(s, "gyr") for s in SENSORS}
         mag = {s: block(s, "mag") for s in SENSORS} if has_mag else None
-        trial = cls(raw[:, 0].copy(), acc, gyr, mag, side, source=path)
+        time_s, acc, gyr, mag = on_uniform_clock(raw[:, 0].copy(), acc, gyr, mag)
+        trial = cls(time_s, acc, gyr, mag, side, source=path)
         trial.validate()
         return trial
 
@@ -455,6 +455,28 @@ class ImuTrial(TimeAxis):
             comments="",
             fmt="%.9g",
         )
+
+
+def on_uniform_clock(
+    time_s: FloatArray,
+    acc: dict[str, FloatArray],
+    gyr: dict[str, FloatArray],
+    mag: dict[str, FloatArray] | None,
+) -> tuple[FloatArray, dict[str, FloatArray], dict[str, FloatArray], dict[str, FloatArray] | None]:
+    """A trial's (N,) time, s, and ``{sensor: (N, 3)}`` signals, on a constant clock.
+
+    Resampled when the steps vary (:func:`~lowerlimb.io.uneven_clock.to_uniform_clock`, which
+    warns), else returned as given.
+    """
+    groups = [acc, gyr] + ([mag] if mag is not None else [])
+    keys = [(g, name) for g, group in enumerate(groups) for name in group]
+    t, arrays, repair = to_uniform_clock(time_s, [groups[g][name] for g, name in keys])
+    if repair is None:
+        return time_s, acc, gyr, mag
+    out: list[dict[str, FloatArray]] = [{} for _ in groups]
+    for (g, name), x in zip(keys, arrays, strict=True):
+        out[g][name] = np.ascontiguousarray(x)
+    return t, out[0], out[1], out[2] if mag is not None else None
 
 
 def one_side_prefix(header: Sequence[str]) -> str | None:
