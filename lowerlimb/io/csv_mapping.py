@@ -69,7 +69,8 @@ class CsvMapping:
         sensors: ``{sensor: {"acc"|"gyr"|"mag": ColumnTriple}}``.
         delimiter: field separator, one character.
         decimal: decimal mark, ``"."`` or ``","``.
-        resample_hz: uniform output rate, Hz, or None to keep the source clock.
+        resample_hz: uniform output rate, Hz, or None to keep the source clock (put on its own
+            constant rate when its steps vary, :mod:`lowerlimb.io.uneven_clock`).
         side: instrumented leg (single-leg mappings), or None.
     """
 

@@ -43,6 +43,7 @@ from .params import ImportParams
 from .recording import ImportedRecording
 from .text_file import read_text
 from .time_axis import require_increasing
+from .uneven_clock import ClockParams, to_uniform_clock
 from .units import QUANTITY_UNITS, TIME_UNITS
 
 
@@ -218,6 +219,8 @@ def load_mapped_csv(
     data = raw[:, 1:]
     if m.resample_hz is not None:
         t, data = resample_uniform(t, data, m.resample_hz, params.max_gap_s, names[1:])
+    else:  # uneven steps onto the recorder's own constant clock, as a trial CSV's
+        t, (data,), _ = to_uniform_clock(t, [data], ClockParams(max_gap_s=params.max_gap_s))
     signals: dict[str, dict[str, FloatArray]] = {q: {} for q in QUANTITY_UNITS}
     col = 0
     for sensor, quantities in m.sensors.items():
