@@ -17,6 +17,8 @@ abstraction leakage).
 
 from __future__ import annotations
 
+import difflib
+import re
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
@@ -48,11 +50,28 @@ class MissingColumnError(InputError):
             if two_legs
             else "pelvis, thigh, shank, foot"
         )
+        like = _column_like(column, self.available)
+        unit = ", in s" if column == "time" else ""
+        hint = f" (the file has {like!r}: rename it {column!r}{unit})" if like else ""
         super().__init__(
-            f"missing column '{column}'{where}; a trial needs time and "
+            f"missing column '{column}'{where}{hint}; a trial needs time and "
             f"<sensor>_acc_x..z, <sensor>_gyr_x..z for {sensors} "
             f"(see docs/formats.md, trial CSV)"
         )
+
+
+#: A trial column's own name (a close name of this form is another required column, not a misspelling).
+_TRIAL_COLUMN = re.compile(r"time|((left|right)_)?(pelvis|thigh|shank|foot)_(acc|gyr|mag)_[xyz]")
+
+
+def _column_like(column: str, available: Sequence[str]) -> str | None:
+    """The file's column that is most likely ``column`` misnamed (``time_s``, ``thigh_accel_x``), or None."""
+    others = [a for a in available if a and not _TRIAL_COLUMN.fullmatch(a)]
+    if column == "time":
+        named = [a for a in others if a in ("t", "timestamp") or a.startswith("time")]
+        return named[0] if named else None
+    close = difflib.get_close_matches(column, others, n=1, cutoff=0.8)
+    return close[0] if close else None
 
 
 class NonFiniteValueError(InputError):

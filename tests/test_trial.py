@@ -50,6 +50,38 @@ def test_missing_column(tmp_path):
     assert e.value.column == "shank_gyr_y"
 
 
+def test_header_names_are_read_in_any_case(tmp_path):
+    trial = _trial()
+    back = ImuTrial.from_csv(_write(tmp_path, trial, lambda h, d: ([n.upper() for n in h], d)), side="left")
+    np.testing.assert_array_equal(back.gyr["foot"], ImuTrial.from_csv(_write(tmp_path, trial)).gyr["foot"])
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ("time", "time_s", r"missing column 'time' .*\(the file has 'time_s': rename it 'time', in s\)"),
+        ("time", "Timestamp", r"\(the file has 'timestamp': rename it 'time', in s\)"),
+        ("thigh_acc_y", "thigh_accel_y", r"\(the file has 'thigh_accel_y': rename it 'thigh_acc_y'\)"),
+    ],
+)
+def test_a_misnamed_column_is_pointed_at(tmp_path, old, new, message):
+    def rename(h, d):
+        return [new if n == old else n for n in h], d
+
+    with pytest.raises(MissingColumnError, match=message):
+        ImuTrial.from_csv(_write(tmp_path, _trial(), rename))
+
+
+def test_a_missing_axis_is_not_called_a_misnamed_neighbour(tmp_path):
+    def drop(h, d):
+        i = h.index("shank_gyr_y")
+        return h[:i] + h[i + 1 :], np.delete(d, i, axis=1)
+
+    with pytest.raises(MissingColumnError) as e:
+        ImuTrial.from_csv(_write(tmp_path, _trial(), drop))
+    assert "rename" not in str(e.value)
+
+
 def test_nan(tmp_path):
     def nan(h, d):
         d = d.copy()

@@ -32,6 +32,7 @@ from .trial import (
     check_unique_columns,
     column_names,
     has_all_mag,
+    header_names,
     on_uniform_clock,
     one_side_prefix,
     read_numbers,
@@ -47,7 +48,7 @@ _LEG_SENSOR = re.compile(r"\b(thigh|shank|foot)(?=_|\b)")
 
 
 def read_header(path: str | os.PathLike[str]) -> list[str]:
-    """The stripped header row of a CSV file.
+    """The header row of a CSV file as column names (:func:`~lowerlimb.io.trial.header_names`).
 
     Raises:
         FileNotFoundError: ``path`` does not exist.
@@ -58,7 +59,7 @@ def read_header(path: str | os.PathLike[str]) -> list[str]:
         raise FileNotFoundError(f"trial file not found: {path}")
     with open(path, newline="", encoding="utf-8-sig") as f:
         try:
-            return [h.strip() for h in next(csv.reader(f))]
+            return header_names(next(csv.reader(f)))
         except StopIteration:
             raise InputError(f"{path} is empty; give a trial CSV with a header row") from None
         except UnicodeDecodeError as e:

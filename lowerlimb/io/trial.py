@@ -526,7 +526,7 @@ def _read_header(path: str) -> list[str]:
     if not line.strip():
         raise InputError(f"{path} is empty; give a trial CSV with a header row")
     try:
-        header = [h.strip() for h in next(csv.reader([line]))]
+        header = header_names(next(csv.reader([line])))
     except csv.Error as e:
         raise unreadable_csv(path, e) from None
     if "time" not in header:
@@ -539,6 +539,11 @@ def _read_header(path: str) -> list[str]:
         raise MissingColumnError("time", header, path)
     check_unique_columns(header, path)
     return header
+
+
+def header_names(cells: Sequence[str]) -> list[str]:
+    """A trial CSV's header cells as column names: stripped and in lower case (``Time`` is ``time``)."""
+    return [c.strip().lower() for c in cells]
 
 
 def check_unique_columns(header: list[str], path: str) -> None:
