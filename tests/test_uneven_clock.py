@@ -7,13 +7,21 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from simcache import cached_simulation
 
 from lowerlimb.cli import main
 from lowerlimb.io import PacketGapError
 from lowerlimb.io.bilateral_trial import BilateralTrial
 from lowerlimb.io.trial import ImuTrial
-from lowerlimb.io.uneven_clock import ClockParams, UnevenClockWarning, nominal_step, to_uniform_clock
+from lowerlimb.io.uneven_clock import (
+    ClockParams,
+    UnevenClockWarning,
+    nominal_step,
+    sample_index,
+    to_uniform_clock,
+)
 from lowerlimb.simulation.bilateral_walk import simulate_bilateral
 
 RATE = 100.0
@@ -158,3 +166,22 @@ def test_calibrate_says_the_resampling_in_one_line_and_refuses_a_long_gap(tmp_pa
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "gap of 0.51 s" in err and "Traceback" not in err
     assert not (tmp_path / "b").exists()
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    n=st.integers(40, 20000),
+    jitter=st.floats(0.0, 0.2),
+    drop=st.floats(0.0, 0.05),
+    rate=st.sampled_from([50.0, 60.0, 100.0, 128.0, 200.0]),
+    seed=st.integers(0, 2**31),
+)
+def test_sample_numbers_are_recovered_through_drops_and_jitter(n, jitter, drop, rate, seed):
+    """Any share of dropped stamps up to 5 %, jitter within a fifth of a period: every number right."""
+    rng = np.random.default_rng(seed)
+    stamps = (np.arange(n) + rng.uniform(-jitter, jitter, n)) / rate + 12.5
+    keep = rng.random(n) >= drop
+    keep[[0, -1]] = True
+    index, step = sample_index(stamps[keep])
+    np.testing.assert_array_equal(index, np.flatnonzero(keep))
+    assert step == pytest.approx(1 / rate, rel=0.4 / (n - 1) + 1e-9)
