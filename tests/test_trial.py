@@ -102,6 +102,18 @@ def test_non_increasing_time(tmp_path):
         ImuTrial.from_csv(_write(tmp_path, _trial(), back))
 
 
+def test_stamps_repeated_in_batches_are_not_called_duplicates(tmp_path):
+    def batches(h, d):
+        d = d.copy()
+        d[:, 0] = d[3::4, 0].repeat(4)  # four samples a batch, stamped as the last arrived
+        return h, d
+
+    trial = _trial()
+    assert trial.n_samples % 4 == 0
+    with pytest.raises(TimeAxisError, match=r"in 300 of 399 steps \(first at data rows 1 and 2.*in batches"):
+        ImuTrial.from_csv(_write(tmp_path, trial, batches))
+
+
 def test_a_gap_too_long_to_fill_is_refused(tmp_path):
     def gap(h, d):
         d = d.copy()

@@ -40,7 +40,7 @@ from ..stillness import StillPeriod, detect_still_period
 from .bounds import INPUT_BOUNDS
 from .text_file import BINARY_MAGIC
 from .time_axis import TimeAxis, guess_time_unit, require_increasing
-from .uneven_clock import CLOCK_PARAMS, to_uniform_clock
+from .uneven_clock import CLOCK_PARAMS, refuse_batched_stamps, to_uniform_clock
 
 #: Lowest sampling rate accepted, Hz: below it the time column is taken to be in ms.
 MIN_RATE_HZ = 5.0
@@ -232,6 +232,7 @@ class ImuTrial(TimeAxis):
                 ):
                     r, c = huge[0]
                     raise SampleGlitchError(f"{sensor}_{name}_{'xyz'[c]}", int(r) + 1, float(x[r, c]))
+        refuse_batched_stamps(t, [*self.acc.values(), *self.gyr.values()])
         require_increasing(t)
         dt = np.diff(t)
         med = float(np.median(dt))

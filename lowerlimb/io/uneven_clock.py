@@ -30,6 +30,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from ..conventions import FloatArray
+from ..errors import TimeAxisError
 from .errors import PacketGapError
 from .params import ImportParams
 
@@ -39,6 +40,7 @@ __all__ = [
     "ClockRepair",
     "UnevenClockWarning",
     "nominal_step",
+    "refuse_batched_stamps",
     "sample_index",
     "to_uniform_clock",
 ]
@@ -55,11 +57,14 @@ class ClockParams:
     Attributes:
         jitter_tolerance: largest deviation of one time step from the median step, as a fraction
             of the median, of a trial taken as recorded at a constant rate.
+        batch_share: a time column that repeats, with different readings, in at least this
+            share of its steps is taken as stamped in batches (:func:`refuse_batched_stamps`).
         max_gap_s: longest step bridged by interpolation, s (the importers' limit,
             :attr:`~lowerlimb.io.params.ImportParams.max_gap_s`).
     """
 
     jitter_tolerance: float = 0.25
+    batch_share: float = 0.1
     max_gap_s: float = ImportParams.max_gap_s
 
 
@@ -208,3 +213,29 @@ def to_uniform_clock(
     )
     warnings.warn(repair.message(), UnevenClockWarning, stacklevel=2)
     return grid, out, repair
+
+
+def refuse_batched_stamps(
+    time_s: FloatArray, signals: Sequence[FloatArray], params: ClockParams = CLOCK_PARAMS
+) -> None:
+    """Refuse a never-decreasing (N,) time, s, that repeats in many steps where the (N, C) readings differ.
+
+    That is a logger stamping samples in batches as they arrive, not duplicated rows: dropping
+    duplicates (the fix for a repeated row) would drop samples. A few repeats are left to the
+    time's own check.
+
+    Raises:
+        TimeAxisError: naming the first repeat and how many there are.
+    """
+    dt = np.diff(np.asarray(time_s, dtype=float))
+    same = np.flatnonzero(dt == 0)
+    if not same.size or np.any(dt < 0):
+        return
+    differ = same[np.any([np.any(x[same] != x[same + 1], axis=1) for x in signals], axis=0)]
+    if differ.size >= params.batch_share * dt.size:
+        k = int(differ[0])
+        raise TimeAxisError(
+            f"time repeats with different readings in {differ.size} of {dt.size} steps (first at data rows "
+            f"{k + 1} and {k + 2}, {time_s[k]:.6g} s): samples stamped in batches as they arrived? give "
+            f"each sample its own time (its sample number divided by the rate)"
+        )
