@@ -281,6 +281,22 @@ def _vendor_csv(path, t_ms):
     path.write_text(";".join(header) + "\n" + "\n".join(rows) + "\n")
 
 
+def test_a_mapping_of_one_leg_under_its_two_leg_names_reads_that_leg(tmp_path):
+    _vendor_csv(tmp_path / "v.csv", 1.7e6 + np.arange(0, 3000, 10.0))
+    plain = _mapping()
+    named = {("pelvis" if s == "pelvis" else f"right_{s}"): v for s, v in plain["sensors"].items()}
+    trial = read_mapped_csv(tmp_path / "v.csv", _mapping(sensors=named))
+    same = read_mapped_csv(tmp_path / "v.csv", _mapping(side="right"))
+    assert trial.side == "right"
+    for s in SENSORS:
+        np.testing.assert_array_equal(trial.gyr[s], same.gyr[s])
+    with pytest.raises(MappingError, match=r"sensors.right_shank.gyr.*unit"):
+        named["right_shank"] = {**named["right_shank"], "gyr": {"columns": ["a", "b", "c"], "unit": "rpm"}}
+        CsvMapping.from_dict(_mapping(sensors=named))
+    with pytest.raises(MappingError, match="named as the right leg's; give 'right' or no side"):
+        CsvMapping.from_dict(_mapping(sensors=named, side="left"))
+
+
 def test_mapped_csv_units_and_time(tmp_path):
     t_ms = 1.7e6 + np.arange(0, 3000, 10.0)  # absolute clock, 100 Hz, in ms
     _vendor_csv(tmp_path / "v.csv", t_ms)

@@ -38,10 +38,12 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from ..conventions import SENSORS
 from .bounds import INPUT_BOUNDS
 from .errors import ColumnReusedError, MappingError
 from .recording import sensor_layout
 from .text_file import read_text
+from .trial import one_side_prefix
 from .units import QUANTITY_UNITS, TIME_UNITS
 
 MAPPING_FORMAT = "lowerlimb-csv-mapping/1"
@@ -119,10 +121,11 @@ class CsvMapping:
         sensors_in = data.get("sensors")
         if not isinstance(sensors_in, Mapping) or not sensors_in:
             raise MappingError("sensors", "give an object {segment: {acc: …, gyr: …[, mag: …]}}")
+        sensors_in, named, side = _one_prefixed_leg(sensors_in, side)
         layout = sensor_layout(sensors_in, "sensors")
         if side is not None and len(layout) == 7:
             raise MappingError("side", "a two-leg mapping has no side; remove it")
-        sensors = {s: _sensor(sensors_in[s], f"sensors.{s}") for s in layout}
+        sensors = {s: _sensor(sensors_in[s], f"sensors.{named.get(s, s)}") for s in layout}
         with_mag = [s for s in layout if "mag" in sensors[s]]
         if with_mag and len(with_mag) != len(layout):
             lacking = next(s for s in layout if "mag" not in sensors[s])
@@ -165,6 +168,27 @@ class CsvMapping:
         except RecursionError:
             raise MappingError("(file)", f"{path} nests its JSON too deeply; give a mapping JSON") from None
         return cls.from_dict(data)
+
+
+def _one_prefixed_leg(
+    sensors: Mapping[str, Any], side: Any
+) -> tuple[Mapping[str, Any], dict[str, str], Any]:
+    """One leg named with its side's two-leg names (``pelvis, right_thigh, …``) as that leg.
+
+    Returns:
+        (the sensors under single-leg names, {single-leg name: name as given}, the side);
+        the inputs and ``{}`` for any other set of names.
+
+    Raises:
+        MappingError: a ``side`` other than the one the names give.
+    """
+    prefix = one_side_prefix([f"{n}_" for n in sensors])
+    if prefix is None or set(sensors) != {"pelvis", *(f"{prefix}_{p}" for p in SENSORS[1:])}:
+        return sensors, {}, side
+    if side is not None and side != prefix:
+        raise MappingError("side", f"the sensors are named as the {prefix} leg's; give {prefix!r} or no side")
+    named = {n.removeprefix(f"{prefix}_"): n for n in sensors}
+    return {single: sensors[n] for single, n in named.items()}, named, prefix
 
 
 def _text(d: Mapping[str, Any], key: str, default: str | None, field: str | None = None) -> str:
