@@ -170,9 +170,7 @@ class CsvMapping:
         return cls.from_dict(data)
 
 
-def _one_prefixed_leg(
-    sensors: Mapping[str, Any], side: Any
-) -> tuple[Mapping[str, Any], dict[str, str], Any]:
+def _one_prefixed_leg(sensors: Mapping[str, Any], side: Any) -> tuple[Mapping[str, Any], dict[str, str], Any]:
     """One leg named with its side's two-leg names (``pelvis, right_thigh, …``) as that leg.
 
     Returns:
