@@ -57,7 +57,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import bilateral_gait  # noqa: E402
 import gait as gait_benchmark  # noqa: E402
 from _realwalk import IDS, load_vicon, raw_dir  # noqa: E402
-from _results import real_data_main  # noqa: E402
+from _results import cell, real_data_main, real_gait_cells, sim_gait_cells  # noqa: E402
 
 SIM_SEEDS = (201, 202, 203)
 #: (label, accelerometer range in g, gyro range in °/s, cut samples left out, restoration:
@@ -232,31 +232,18 @@ def run(data: Path) -> dict[str, Any]:
     return {"seeds": SIM_SEEDS, "rows": rows}
 
 
-def _f(x: Any, fmt: str = ".1f") -> str:
-    return "–" if x is None or not np.isfinite(x) else format(x, fmt)
-
-
 def _sim_line(r: dict[str, Any]) -> str:
     s = r["simulated"]
-    lengths = " / ".join(
-        f"{_f(v['median_abs'], '.0f')} ({_f(v['worst_abs'], '.0f')})" for v in s["lengths_mm"].values()
-    )
     return (
-        f"| {r['label']} | {s['found']} / {s['beyond']} | {100 * s['cut_share']:.1f} | {lengths} | "
-        f"{_f(s['stride_length_pct']['median_abs'])} | {_f(s['step_width_mm']['median_abs'], '.0f')} | "
-        f"{_f(s['initial_contact_ms']['median_abs'])} | {_f(s['worst_knee_rmse_deg'])} | "
-        f"{_f(s['worst_angle_rmse_deg'])} |"
+        f"| {r['label']} | {s['found']} / {s['beyond']} | {100 * s['cut_share']:.1f} | {sim_gait_cells(s)} |"
     )
 
 
 def _real_line(r: dict[str, Any]) -> str:
     s = r["real"]
-    le = " / ".join(f"{v:+.0f}" for side in SIDES for v in s["length_err_mm"][side])
-    stride, width = s["stride_length_pct"].get("median_abs"), s["step_width_mm"].get("median_abs")
     return (
-        f"| {r['label']} | {s['found']} / {s['beyond']} | {100 * s['cut_share']:.1f} | {le} | "
-        f"{_f(stride)} | {_f(width, '.0f')} | {' / '.join(_f(v) for v in s['knee_flexion_rmse_deg'])} | "
-        f"{_f(s['worst_flexion_rmse_deg'])} |"
+        f"| {r['label']} | {s['found']} / {s['beyond']} | {100 * s['cut_share']:.1f} | "
+        f"{real_gait_cells(s, SIDES)} | {cell(s['worst_flexion_rmse_deg'])} |"
     )
 
 
