@@ -32,6 +32,8 @@ from .calibration.options import CalibrationOptions, check_method
 from .conventions import FloatArray, check_side
 from .errors import InputError
 from .export.result import check_export_formats, write_exports, write_units_sidecars
+from .gait.one_leg import LegGait
+from .gait.writers import write_leg_gait
 from .io.atomic import check_new_directory, populate_directory
 from .io.bounds import INPUT_BOUNDS, InputBounds, check_range, check_vectors
 from .io.interrupts import check_interrupted
@@ -108,6 +110,8 @@ def write_outputs(
         (directory / "calibrated.urdf").write_text(
             urdf_with_sidecar(result.model.to_urdf_string()), encoding="utf-8"
         )
+    if result.gait is not None:  # a leg that walks: its events and gait, as two legs always have
+        write_leg_gait(result.gait, directory)
     if "report" in files:
         sections = [] if agreement is None else [agreement_section_html(agreement, reference_name)]
         _write_report(result, directory, d, truth_angles_rad, truth_positions_m, sections)
@@ -410,7 +414,28 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
     print(f"joint calibration took {cal.runtime_s:.3f} s; wrote {out}/", file=sys.stderr)
     for line in residual_lines(result.calibration_dict()):
         print(f"  {line}", file=sys.stderr)
+    if result.gait is not None:
+        print(f"  {gait_line(result.gait)}", file=sys.stderr)
     return result
+
+
+def gait_line(gait: LegGait) -> str:
+    """One console line of a leg's gait: strides, stride length and time, cadence, speed."""
+    d = gait.to_dict()
+    leg = d.get(gait.side) or {}
+
+    def mean(key: str) -> float:
+        value = (leg.get(key) or {}).get("mean")
+        return float("nan") if value is None else float(value)
+
+    def text(value: float | None, fmt: str) -> str:
+        return "–" if value is None or not np.isfinite(value) else format(value, fmt)
+
+    return (
+        f"gait ({gait.side} leg, events.csv, gait.json): {gait.n_strides} straight strides of "
+        f"{text(mean('stride_length_m'), '.2f')} m in {text(mean('stride_time_s'), '.2f')} s, "
+        f"{text(d.get('cadence_steps_per_min'), '.0f')} steps/min, {text(mean('gait_speed_m_s'), '.2f')} m/s"
+    )
 
 
 def _checked_reference(options: CalibrateOptions, files: frozenset[str], time_s: FloatArray) -> Table | None:

@@ -43,6 +43,7 @@ from .conventions import SENSORS, FloatArray, quat_from_matrix
 from .errors import InputError
 from .gait.cut_rate import RateRestore, restore_cut_gyro
 from .gait.cut_segment import JointLink, SegmentRestore, restore_cut_segment_gyro
+from .gait.one_leg import LegGait, analyse_leg_gait
 from .gait.params import GaitParams
 from .gait.stationary import detect_stationary
 from .io.held_samples import warn_held_samples
@@ -115,6 +116,8 @@ class TrialResult:
         segment_gyro_restore: ``{"thigh"|"shank": …}`` the cut runs of those gyros restored
             (:mod:`lowerlimb.gait.cut_segment`; ``trial`` holds the restored gyros); empty when
             none is cut or ``GaitParams.cut_restore`` is off.
+        gait: the leg's events, ankle track and gait parameters
+            (:mod:`lowerlimb.gait.one_leg`), or ``None`` (no walking, or not asked for).
     """
 
     trial: ImuTrial
@@ -134,6 +137,7 @@ class TrialResult:
     foot_gyro_restore: RateRestore | None = None
     foot_acc_cut: Saturation | None = None
     segment_gyro_restore: dict[str, SegmentRestore] = field(default_factory=dict)
+    gait: LegGait | None = None
 
     @property
     def angles_rad(self) -> FloatArray:
@@ -538,6 +542,7 @@ def process_trial(
     positions: bool = True,
     smooth_orientation: bool = True,
     gait_params: GaitParams | None = None,
+    leg_gait: bool = True,
 ) -> TrialResult:
     """Calibrate a trial and compute its joint angles and positions.
 
@@ -568,6 +573,9 @@ def process_trial(
         gait_params: the foot's rests and what a foot gyro cut at its range gets back between
             them (``cut_restore``, ``cut_rate_*``; :mod:`lowerlimb.gait.cut_rate`); defaults:
             :class:`~lowerlimb.gait.GaitParams`.
+        leg_gait: find the leg's gait events and parameters when it walks
+            (:mod:`lowerlimb.gait.one_leg`, ``TrialResult.gait``); the two-leg pipeline finds
+            both legs' together instead.
 
     Raises:
         InputError: a calibration of the other leg, swapped sensor columns
@@ -648,6 +656,9 @@ def process_trial(
         calib, motion, height_m=height_m, mass_kg=mass_kg, s2j=s2j, positions=positions
     )
     clock.stop("forward kinematics")
+    clock.start()
+    gait = _leg_gait(trial, calib, motion, gyr, gp, foot_acc_cut) if leg_gait else None
+    clock.stop("gait")
     moving_s = trial.duration_s - trial.standing_samples(1.0, still) / trial.rate_hz
     if side_check and trial.standing_samples(1.0, still) > 0 and moving_s >= SIDE_MIN_MOTION_S:
         # the pelvis frame's "right" comes from the standing reference: without one, no verdict;
@@ -684,4 +695,29 @@ def process_trial(
         restore,
         foot_acc_cut,
         segment_restore,
+        gait,
+    )
+
+
+def _leg_gait(
+    trial: ImuTrial,
+    calib: LegCalibration,
+    motion: SegmentMotion,
+    gyr: dict[str, FloatArray],
+    params: GaitParams,
+    foot_acc_cut: Saturation | None,
+) -> LegGait | None:
+    """The leg's gait from its bias-free shank and foot gyros and the calibrated foot orientation."""
+    cut = foot_acc_cut if params.cut_restore else None
+    return analyse_leg_gait(
+        trial.side,
+        trial.rate_hz,
+        shank_gyr=gyr["shank"],
+        foot_gyr=gyr["foot"],
+        foot_acc=trial.acc["foot"],
+        foot_quat_wxyz=motion.sensor_quat_wxyz["foot"],
+        ankle_in_foot_m=calib.ankle.center_in_child_sensor,
+        start_time_s=float(trial.time_s[0]),
+        params=params,
+        cut_axes=None if cut is None else cut.axes,
     )

@@ -179,15 +179,7 @@ def _json_safe(x: Any) -> Any:
 
 
 def _shift(ev: SideEvents | None, t0: float) -> SideEvents | None:
-    if ev is None or t0 == 0.0:
-        return ev
-    return replace(
-        ev,
-        initial_contact_s=ev.initial_contact_s + t0,
-        toe_off_s=ev.toe_off_s + t0,
-        midswing_s=ev.midswing_s + t0,
-        start_time_s=t0,
-    )
+    return None if ev is None else ev.on_clock(t0)
 
 
 def chain_anchor(

@@ -282,7 +282,7 @@ def _process_leg(
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            return process_trial(trial.leg(side), **kwargs), list(caught)
+            return process_trial(trial.leg(side), leg_gait=False, **kwargs), list(caught)
     except WrongSideError as e:
         raise BilateralSideError(side, e.lateral_m) from None
     except SensorOrderError as e:

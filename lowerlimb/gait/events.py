@@ -94,6 +94,18 @@ class SideEvents:
         """How many toe-offs came from each source (``TOE_OFF_SOURCES``, all keys present)."""
         return {k: int(np.count_nonzero(self.toe_off_source == k)) for k in TOE_OFF_SOURCES}
 
+    def on_clock(self, t0: float) -> SideEvents:
+        """The events with their times on a trial's clock whose first sample is at ``t0``, s."""
+        if t0 == 0.0:
+            return self
+        return replace(
+            self,
+            initial_contact_s=self.initial_contact_s + t0,
+            toe_off_s=self.toe_off_s + t0,
+            midswing_s=self.midswing_s + t0,
+            start_time_s=t0,
+        )
+
 
 @dataclass(frozen=True)
 class GaitEvents:

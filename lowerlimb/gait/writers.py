@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from lowerlimb.gait.events import GaitEvents
+from lowerlimb.gait.one_leg import LegGait
 from lowerlimb.gait.parameters import GaitParameters
 
 __all__ = [
@@ -15,6 +16,7 @@ __all__ = [
     "STATIONARY_COLUMNS",
     "write_events_csv",
     "write_gait_json",
+    "write_leg_gait",
     "write_stationary_csv",
 ]
 
@@ -69,3 +71,20 @@ def write_gait_json(parameters: GaitParameters, path: str | Path) -> Path:
     path = Path(path)
     path.write_text(json.dumps(_finite(parameters.to_dict()), indent=2) + "\n", encoding="utf-8")
     return path
+
+
+#: The files of a leg's gait (:func:`write_leg_gait`), in the order written.
+LEG_GAIT_FILES = ("events.csv", "stationary.csv", "gait.json")
+
+
+def write_leg_gait(gait: LegGait, directory: str | Path) -> list[str]:
+    """Write one leg's ``events.csv``, ``stationary.csv`` and ``gait.json`` into ``directory``.
+
+    Returns:
+        The names written (:data:`LEG_GAIT_FILES`).
+    """
+    d = Path(directory)
+    write_events_csv(gait.events, d / "events.csv")
+    write_stationary_csv(gait.events, d / "stationary.csv")
+    (d / "gait.json").write_text(json.dumps(_finite(gait.to_dict()), indent=2) + "\n", encoding="utf-8")
+    return list(LEG_GAIT_FILES)
