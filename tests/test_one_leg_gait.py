@@ -72,3 +72,15 @@ def test_calibrate_writes_the_legs_gait_files_and_says_so(walk, tmp_path, capsys
     gait = json.loads((tmp_path / "o" / "gait.json").read_text())
     assert gait["right"]["n_strides"] > 10 and gait["step_width_m"]["mean"] is None
     assert (tmp_path / "o" / "stationary.csv").read_text().startswith("side,start,end")
+
+
+def test_a_study_row_of_one_walking_leg_has_its_gait(walk):
+    from lowerlimb.batch.worker import leg_gait_results
+
+    row = leg_gait_results(_leg(walk, "left"))
+    assert row["cadence_steps_per_min"] == pytest.approx(walk.truth["gait"]["cadence_steps_per_min"], abs=1.0)
+    assert 0.5 < row["stride_length_m"] < 2.0 and 0.5 < row["gait_speed_m_s"] < 2.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        squat = process_trial(cached_simulation("squat", 20.0, 3).trial)
+    assert all(np.isnan(v) for v in leg_gait_results(squat).values())

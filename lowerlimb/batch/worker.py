@@ -37,7 +37,7 @@ from lowerlimb.pipeline import TrialResult, process_trial
 from .params import BatchParams
 from .record import MARKER, TrialJob, TrialOutcome
 
-__all__ = ["bilateral_key_results", "key_results", "run_trial"]
+__all__ = ["bilateral_key_results", "key_results", "leg_gait_results", "run_trial"]
 
 #: Errors that mean the trial or its options are bad (a re-run gives the same).
 _INPUT_ERRORS = (InputError, FileNotFoundError, IsADirectoryError, PermissionError, UnicodeDecodeError)
@@ -132,7 +132,7 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
         calibration_options=_options(p),
         smooth_orientation=p.smooth_orientation,
     )
-    return key_results(result), lambda d: write_outputs(result, d, files=p.outputs)
+    return key_results(result) | leg_gait_results(result), lambda d: write_outputs(result, d, files=p.outputs)
 
 
 def _write_two_legs(result: BilateralResult, directory: Path, files: frozenset[str]) -> None:
@@ -194,6 +194,23 @@ def key_results(result: TrialResult) -> dict[str, float]:
         column = deg[:, k][np.isfinite(deg[:, k])]
         out[f"{name}_range_deg"] = round(float(np.ptp(column)), 2) if column.size else float("nan")
     return out
+
+
+def leg_gait_results(result: TrialResult) -> dict[str, float]:
+    """``batch.csv``'s gait results of a single-leg trial (the two-leg trial's names).
+
+    Returns:
+        ``cadence_steps_per_min`` (``120 / stride time``), ``gait_speed_m_s`` and
+        ``stride_length_m`` of the leg's straight strides (:mod:`lowerlimb.gait.one_leg`);
+        NaN without walking.
+    """
+    d = result.gait.to_dict() if result.gait is not None else {}
+    leg = d.get(result.trial.side) or {}
+    return {
+        "cadence_steps_per_min": _rounded(d.get("cadence_steps_per_min")),
+        "gait_speed_m_s": _rounded((leg.get("gait_speed_m_s") or {}).get("mean")),
+        "stride_length_m": _rounded((leg.get("stride_length_m") or {}).get("mean")),
+    }
 
 
 def _split_half_max_mm(result: TrialResult) -> float:
