@@ -212,7 +212,8 @@ MIN_REPORT_STRIDES = 3
 def gait_cycles_html(result: TrialResult) -> str:
     """The report's gait-cycle section of a walking trial, or ``""`` when the trial shows no gait.
 
-    Initial contacts come from the shank and foot gyros (:func:`lowerlimb.gait.detect_side_events`);
+    Initial contacts are the leg's gait events (``result.gait``), else found here from the shank
+    and foot gyros (:func:`lowerlimb.gait.detect_side_events`);
     each stride's angles are time-normalised (:func:`lowerlimb.viz.gait_curves.gait_report_section`),
     so a long walk reads as mean ± SD curves rather than a solid block of time plots.
     """
@@ -221,25 +222,27 @@ def gait_cycles_html(result: TrialResult) -> str:
     from .viz.gait_curves import gait_report_section
 
     t = result.trial
-    bias = result.calibration.gyro_bias
-    zero = np.zeros(3)
-    try:
-        events = detect_side_events(
-            t.gyr["shank"] - bias.get("shank", zero),
-            t.rate_hz,
-            t.side,
-            foot_gyr=t.gyr["foot"] - bias.get("foot", zero),
-            foot_acc=t.acc["foot"],
-            start_time_s=float(t.time_s[0]),
-        )
-    except InputError:  # no walking in this trial (squats, sit-to-stand…)
-        return ""
-    if len(events.initial_contact_s) < MIN_REPORT_STRIDES + 1:
+    found = None if result.gait is None else getattr(result.gait.events, t.side)
+    if found is None:  # a foot that never rests (no gait.json) may still show strides
+        bias = result.calibration.gyro_bias
+        zero = np.zeros(3)
+        try:
+            found = detect_side_events(
+                t.gyr["shank"] - bias.get("shank", zero),
+                t.rate_hz,
+                t.side,
+                foot_gyr=t.gyr["foot"] - bias.get("foot", zero),
+                foot_acc=t.acc["foot"],
+                start_time_s=float(t.time_s[0]),
+            )
+        except InputError:  # no walking in this trial (squats, sit-to-stand…)
+            return ""
+    if len(found.initial_contact_s) < MIN_REPORT_STRIDES + 1:
         return ""
     return gait_report_section(
         t.time_s,
         {t.side: np.degrees(result.angles_rad)},
-        {t.side: list(events.initial_contact_s)},
+        {t.side: list(found.initial_contact_s)},
         list(ANGLE_COLUMNS[1:]),
     )
 
