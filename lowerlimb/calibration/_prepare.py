@@ -254,12 +254,27 @@ def filtered_regressor(
 
 
 def rigid_band_cap_hz(
-    acc_parent: FloatArray, acc_child: FloatArray, rate_hz: float, options: CalibrationOptions
+    acc_parent: FloatArray,
+    acc_child: FloatArray,
+    rate_hz: float,
+    options: CalibrationOptions,
+    gyr: FloatArray | None = None,
 ) -> float | None:
-    """The cut-off cap of one joint from its rigid band (``None``: no cap), Hz."""
+    """The cut-off cap of one joint from its rigid band (``None``: no cap), Hz.
+
+    ``gyr``: (N, 6) the two sensors' gyros side by side, rad/s, so that segments of unusual
+    rotation are left out (``CalibrationOptions.rigid_band_max_rotation``), or ``None``.
+    """
     if not (options.prefilter and options.rigid_band) or options.cutoff_hz is not None:
         return None
-    band = rigid_band_hz(acc_parent, acc_child, rate_hz, threshold=options.rigid_band_coherence)
+    band = rigid_band_hz(
+        acc_parent,
+        acc_child,
+        rate_hz,
+        threshold=options.rigid_band_coherence,
+        gyr=gyr,
+        max_rotation=options.rigid_band_max_rotation,
+    )
     if band is None:
         return None
     cap = max(options.rigid_band_min_hz, options.rigid_band_factor * band)
@@ -309,7 +324,8 @@ def joint_signals(
     Returns:
         The pair data.
     """
-    own = rigid_band_cap_hz(acc[parent], acc[child], sig.rate_hz, options) if own_band else None
+    rot = np.hstack([gyr[parent], gyr[child]])
+    own = rigid_band_cap_hz(acc[parent], acc[child], sig.rate_hz, options, rot) if own_band else None
     given = [c for c in (own, cap_hz) if c is not None]
     cap = min(given) if given else None
     if caps is not None:

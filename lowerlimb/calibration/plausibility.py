@@ -219,7 +219,9 @@ def check_sensor_order(
 
     @cache
     def own_cap(pair: tuple[str, str]) -> float | None:
-        return rigid_band_cap_hz(acc[pair[0]], acc[pair[1]], sig.rate_hz, options)
+        return rigid_band_cap_hz(
+            acc[pair[0]], acc[pair[1]], sig.rate_hz, options, np.hstack([gyr[pair[0]], gyr[pair[1]]])
+        )
 
     def res(parent: str, child: str, rival: tuple[str, str]) -> float:
         """The pair's residual, seen through the filter of its ``rival`` pair too."""

@@ -108,6 +108,8 @@ def rigid_band_hz(
     segment_s: float = 1.28,
     start_hz: float = 1.0,
     power_db: float = -15.0,
+    gyr: ArrayLike | None = None,
+    max_rotation: float | None = None,
 ) -> float | None:
     """Upper edge of the band in which two sensors of one joint move as a rigid chain.
 
@@ -133,6 +135,11 @@ def rigid_band_hz(
             fundamental and slow posture changes dominate).
         power_db: a bin counts when either norm's power is within this many dB
             of that norm's peak.
+        gyr: (N, k) the two sensors' gyros side by side, rad/s, to leave out the segments
+            of unusual rotation (a fast turn: the two norms' centripetal parts differ, which
+            is rotation, not soft tissue), or ``None``.
+        max_rotation: a segment whose mean squared rate exceeds this many times the moving
+            segments' median is left out (``None``: none is).
 
     Returns:
         The band edge, Hz, or ``None`` when the recording is too short to tell
@@ -144,7 +151,8 @@ def rigid_band_hz(
     if a.shape[0] < 4 * nper or nper < 8:
         return None
     a, b = a - a.mean(), b - b.mean()
-    f, P_aa, P_bb, P_ab = welch_spectra(a, b, rate_hz, nper)
+    keep = None if gyr is None or max_rotation is None else _usual_rotation(gyr, nper, max_rotation)
+    f, P_aa, P_bb, P_ab = welch_spectra(a, b, rate_hz, nper, keep)
     with np.errstate(divide="ignore", invalid="ignore"):
         C = np.abs(P_ab) ** 2 / P_aa / P_bb
     smooth = np.convolve(np.nan_to_num(C), np.ones(3) / 3.0, mode="same")
@@ -157,8 +165,28 @@ def rigid_band_hz(
     return float(f[start + below[0]]) if below.size else None
 
 
+#: A Welch segment counts as moving when its squared rate reaches this share of the 90th percentile.
+_MOVING_SHARE = 0.1
+
+
+def _usual_rotation(gyr: ArrayLike, nper: int, max_rotation: float) -> np.ndarray | None:
+    """(segments,) ``True`` for the Welch segments whose mean squared rate is usual; ``None``: all.
+
+    Usual: at most ``max_rotation`` times the median over the moving segments (those reaching
+    :data:`_MOVING_SHARE` of the 90th percentile; a standing start is not the reference).
+    Fewer than four usual segments keep them all.
+    """
+    w2 = np.sum(np.asarray(gyr, dtype=float) ** 2, axis=1)
+    step = nper - nper // 2
+    n_seg = (w2.shape[0] - nper) // step + 1
+    seg = np.lib.stride_tricks.sliding_window_view(w2, nper)[::step][:n_seg].mean(axis=1)
+    moving = seg[seg >= _MOVING_SHARE * np.percentile(seg, 90)]
+    keep = seg <= max_rotation * np.median(moving)
+    return keep if np.count_nonzero(keep) >= 4 else None
+
+
 def welch_spectra(
-    a: FloatArray, b: FloatArray, rate_hz: float, nper: int
+    a: FloatArray, b: FloatArray, rate_hz: float, nper: int, keep: np.ndarray | None = None
 ) -> tuple[FloatArray, FloatArray, FloatArray, NDArray[np.complex128]]:
     """Welch auto- and cross-spectra of two signals, as ``scipy.signal.welch``/``csd`` compute them.
 
@@ -172,6 +200,7 @@ def welch_spectra(
         b: (N,) second signal, same length.
         rate_hz: sampling rate, Hz.
         nper: segment length, samples (≤ N).
+        keep: (segments,) ``True`` for the segments to average, or ``None`` (all).
 
     Returns:
         ``(f, P_aa, P_bb, P_ab)``: frequencies (Hz) and the three spectra (unit²/Hz;
@@ -189,6 +218,8 @@ def welch_spectra(
         return np.fft.rfft((s - s.mean(axis=1, keepdims=True)) * window, axis=1)
 
     A, B = segments(a), segments(b)
+    if keep is not None:
+        A, B = A[keep], B[keep]
     scale = 1.0 / (rate_hz * float(window @ window))
     doubled = np.full(nper // 2 + 1, 2.0)  # one-sided: every bin but DC (and Nyquist) twice
     doubled[0] = 1.0
