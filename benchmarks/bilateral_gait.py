@@ -33,12 +33,14 @@ import json
 import sys
 import tempfile
 import time
+import warnings
 from pathlib import Path
 from types import ModuleType
 from typing import Any
 
 import numpy as np
 
+from lowerlimb.bilateral.process import process_bilateral_trial
 from lowerlimb.conventions import ANGLE_COLUMNS, SIDES
 from lowerlimb.gait.turns import detect_turns
 from lowerlimb.io import load_xsens
@@ -171,6 +173,31 @@ def score_strides(result: Any, vicon: dict, ge: ModuleType) -> dict[str, Any]:
     sl = [100 * (r["stride_length_imu_m"] / r["stride_length_vicon_m"] - 1) for r in rows if r["straight"]]
     sw = [1000 * (r["step_width_imu_m"] - r["step_width_vicon_m"]) for r in rows if r["step_straight"]]
     return {"stride_length_err_pct": _stats(sl), "step_width_err_mm": _stats(sw), "strides": rows}
+
+
+def score_real_walk(trial: Any, vicon: dict, **options: Any) -> dict[str, Any]:
+    """The two-leg pipeline on a (changed) real walk, quietly, scored against Vicon.
+
+    Returns:
+        ``length_err_mm`` ({side: [thigh, shank]}), ``stride_length_pct`` and ``step_width_mm``
+        (:func:`score_strides`), ``knee_flexion_rmse_deg`` ([left, right]) and ``worst_flexion_rmse_deg``
+        (the worst of both legs' knee and hip flexion), and the ``result``.
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = process_bilateral_trial(trial, **options)
+    legs = score_legs(res, vicon)
+    strides = score_strides(res, vicon, _gait_events_module())
+    return {
+        "length_err_mm": {s: [legs[s]["thigh_err_mm"], legs[s]["shank_err_mm"]] for s in SIDES},
+        "stride_length_pct": strides["stride_length_err_pct"],
+        "step_width_mm": strides["step_width_err_mm"],
+        "knee_flexion_rmse_deg": [legs[s]["knee_flexion_rmse_deg"] for s in SIDES],
+        "worst_flexion_rmse_deg": max(
+            legs[s][k] for s in SIDES for k in ("knee_flexion_rmse_deg", "hip_flexion_rmse_deg")
+        ),
+        "result": res,
+    }
 
 
 def vicon_pelvis_rate(vicon: dict) -> np.ndarray:

@@ -19,11 +19,9 @@ length, step width, initial contact, worst knee and worst angle RMSE). Real: the
 from __future__ import annotations
 
 import sys
-import warnings
 from pathlib import Path
 from typing import Any
 
-from lowerlimb.bilateral.process import process_bilateral_trial
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.conventions import SIDES
 from lowerlimb.io import load_xsens
@@ -63,21 +61,11 @@ def _sim_row(turn_s: float, rotation: float | None) -> dict[str, Any]:
 
 def _real_row(data: Path, rotation: float | None) -> dict[str, Any]:
     rec = load_xsens(raw_dir(data), IDS)
-    vicon = load_vicon(data)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        res = process_bilateral_trial(
-            BilateralTrial(rec.time_s, rec.acc, rec.gyr, rec.mag),
-            calibration_options=CalibrationOptions(rigid_band_max_rotation=rotation),
-        )
-    legs = bilateral_gait.score_legs(res, vicon)
-    strides = bilateral_gait.score_strides(res, vicon, bilateral_gait._gait_events_module())
-    return {
-        "length_err_mm": {s: [legs[s]["thigh_err_mm"], legs[s]["shank_err_mm"]] for s in SIDES},
-        "stride_length_pct": strides["stride_length_err_pct"],
-        "step_width_mm": strides["step_width_err_mm"],
-        "knee_flexion_rmse_deg": [legs[s]["knee_flexion_rmse_deg"] for s in SIDES],
-    }
+    trial = BilateralTrial(rec.time_s, rec.acc, rec.gyr, rec.mag)
+    options = CalibrationOptions(rigid_band_max_rotation=rotation)
+    scored = bilateral_gait.score_real_walk(trial, load_vicon(data), calibration_options=options)
+    del scored["result"]
+    return scored
 
 
 def run(data: Path) -> dict[str, Any]:

@@ -36,7 +36,6 @@ readings are 3.0 g and 460 °/s).
 from __future__ import annotations
 
 import sys
-import warnings
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
@@ -45,7 +44,6 @@ from typing import Any
 
 import numpy as np
 
-from lowerlimb.bilateral.process import process_bilateral_trial
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.conventions import GRAVITY_MPS2, SIDES
 from lowerlimb.gait import GaitParams
@@ -173,44 +171,31 @@ def _sim_row(gait: ModuleType, acc_g: float, gyr_dps: float, left_out: bool, res
 
 
 def _real_row(
-    base: BilateralTrial,
-    vicon: dict[str, Any],
-    bg: ModuleType,
-    ge: ModuleType,
-    row: tuple[str, float, float, bool, str],
+    base: BilateralTrial, vicon: dict[str, Any], row: tuple[str, float, float, bool, str]
 ) -> dict[str, Any]:
     _, acc_g, gyr_dps, left_out, restore = row
     record: dict[str, Any] = {}
     trial = _found(base, _limits(acc_g, gyr_dps), record)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        res = process_bilateral_trial(
-            trial,
-            calibration_options=CalibrationOptions(saturation_exclusion=left_out),
-            gait_params=RESTORATION[restore],
-        )
-    legs = bg.score_legs(res, vicon)
-    strides = bg.score_strides(res, vicon, ge)
+    scored = bilateral_gait.score_real_walk(
+        trial,
+        vicon,
+        calibration_options=CalibrationOptions(saturation_exclusion=left_out),
+        gait_params=RESTORATION[restore],
+    )
+    del scored["result"]
     return {
         "found": len(record["found"]),
         "beyond": len(record["beyond"]),
         "missed": sorted(set(record["beyond"]) - set(record["found"])),
         "false": sorted(set(record["found"]) - set(record["beyond"])),
         "cut_share": record["cut_share"],
-        "length_err_mm": {s: [legs[s]["thigh_err_mm"], legs[s]["shank_err_mm"]] for s in SIDES},
-        "stride_length_pct": strides["stride_length_err_pct"],
-        "step_width_mm": strides["step_width_err_mm"],
-        "worst_flexion_rmse_deg": max(
-            legs[s][k] for s in SIDES for k in ("knee_flexion_rmse_deg", "hip_flexion_rmse_deg")
-        ),
-        "knee_flexion_rmse_deg": [legs[s]["knee_flexion_rmse_deg"] for s in SIDES],
+        **scored,
     }
 
 
 def run(data: Path) -> dict[str, Any]:
     """Every row on the simulated walks and on the real walk."""
-    gait, bg = gait_benchmark, bilateral_gait
-    ge = bg._gait_events_module()
+    gait = gait_benchmark
     rec = load_xsens(raw_dir(data), IDS)
     base = BilateralTrial(rec.time_s, rec.acc, rec.gyr, rec.mag)
     vicon = load_vicon(data)
@@ -226,7 +211,7 @@ def run(data: Path) -> dict[str, Any]:
                 "left_out": left_out,
                 "restored": restore,
                 "simulated": _sim_row(gait, acc_g, gyr_dps, left_out, restore),
-                "real": _real_row(base, vicon, bg, ge, row),
+                "real": _real_row(base, vicon, row),
             }
         )
     return {"seeds": SIM_SEEDS, "rows": rows}

@@ -38,7 +38,6 @@ from typing import Any
 import numpy as np
 from scipy.signal import resample_poly
 
-from lowerlimb.bilateral.process import process_bilateral_trial
 from lowerlimb.conventions import SIDES
 from lowerlimb.io import load_xsens
 from lowerlimb.io.bilateral_trial import BilateralTrial
@@ -150,33 +149,21 @@ def _sim_row(gait: ModuleType, row: tuple[str, float, int, float, bool]) -> dict
 
 
 def _real_row(
-    base: BilateralTrial,
-    vicon: dict[str, Any],
-    bg: ModuleType,
-    ge: ModuleType,
-    row: tuple[str, float, int, float, bool],
+    base: BilateralTrial, vicon: dict[str, Any], row: tuple[str, float, int, float, bool]
 ) -> dict[str, Any]:
     trial = uneven(base, row, seed=7)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        res = process_bilateral_trial(trial)
-    legs = bg.score_legs(res, vicon)
-    strides = bg.score_strides(res, vicon, ge)
+    scored = bilateral_gait.score_real_walk(trial, vicon)
+    del scored["result"]
     return {
         "resampled": trial.source.endswith("(resampled)"),
         "rows": int(trial.time_s.size),
         "gyro_error_rps": _gyro_error(base, trial),
-        "length_err_mm": {s: [legs[s]["thigh_err_mm"], legs[s]["shank_err_mm"]] for s in SIDES},
-        "stride_length_pct": strides["stride_length_err_pct"],
-        "step_width_mm": strides["step_width_err_mm"],
-        "knee_flexion_rmse_deg": [legs[s]["knee_flexion_rmse_deg"] for s in SIDES],
+        **scored,
     }
 
 
 def run(data: Path) -> dict[str, Any]:
     """Every row on the simulated walks and on the real walk."""
-    bg = bilateral_gait
-    ge = bg._gait_events_module()
     rec = load_xsens(raw_dir(data), IDS)
     base = BilateralTrial(rec.time_s, rec.acc, rec.gyr, rec.mag, source="real walk")
     vicon = load_vicon(data)
@@ -191,7 +178,7 @@ def run(data: Path) -> dict[str, Any]:
                 "jitter": row[3],
                 "linear": row[4],
                 "simulated": _sim_row(gait_benchmark, row),
-                "real": _real_row(base, vicon, bg, ge, row),
+                "real": _real_row(base, vicon, row),
             }
         )
     return {"seeds": SIM_SEEDS, "rows": rows}
