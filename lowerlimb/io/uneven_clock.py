@@ -236,6 +236,7 @@ def refuse_batched_stamps(
         k = int(differ[0])
         raise TimeAxisError(
             f"time repeats with different readings in {differ.size} of {dt.size} steps (first at data rows "
-            f"{k + 1} and {k + 2}, {time_s[k]:.6g} s): samples stamped in batches as they arrived? give "
-            f"each sample its own time (its sample number divided by the rate)"
+            f"{k + 1} and {k + 2}, {time_s[k]:.6g} s): samples stamped in batches as they arrived, or times "
+            f"written with too few digits? give each sample its own time (its sample number divided by "
+            f"the rate)"
         )
