@@ -143,15 +143,21 @@ def test_an_implausible_widened_leg_is_refitted_in_the_coherent_band(capped_leg)
 
 def test_a_leg_implausible_in_both_capped_bands_is_fitted_without_the_caps() -> None:
     """A shuffling walk with turns about: rotation about the hip makes the pelvis and thigh
-    sensors' acceleration norms incoherent though the sensors are rigid; the caps at the 2 Hz
-    floor left the thigh 229 mm long, and the leg fell back on de Leva. Fitted without the
-    caps, its segments are the truth's."""
+    sensors' acceleration norms incoherent though the sensors are rigid; with the turns' segments
+    in the coherence (``rigid_band_max_rotation=None``) the caps at the 2 Hz floor left the thigh
+    229 mm long, and the leg fell back on de Leva. Fitted without the caps, its segments are the
+    truth's; by default the turns are left out of the coherence and the widened band gives them."""
     from lowerlimb.simulation.turns import TurnParams
 
     sim = simulate_bilateral(30.0, 203, pace="shuffle", turns=TurnParams())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        default = calibrate_leg(sim.trial.leg("left"))
+    assert default.fit_band.widened and not default.fit_band.uncapped
+    assert np.all(np.abs(_lengths_error_mm(default, sim.truth["legs"]["left"])) < 15.0)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        cal = calibrate_leg(sim.trial.leg("left"))
+        cal = calibrate_leg(sim.trial.leg("left"), options=CalibrationOptions(rigid_band_max_rotation=None))
     assert cal.fit_band.uncapped and not cal.fit_band.widened
     assert cal.fit_band.reason is not None and "thigh" in cal.fit_band.reason
     assert np.all(np.abs(_lengths_error_mm(cal, sim.truth["legs"]["left"])) < 15.0)
