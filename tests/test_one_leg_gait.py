@@ -46,11 +46,13 @@ def test_one_leg_finds_its_events_strides_and_cadence(walk, side):
     assert np.isnan(d[side]["step_width_m"]["mean"]) and ("left" if side == "right" else "right") not in d
 
 
-def test_no_gait_where_the_foot_never_rests_or_the_leg_does_not_walk():
-    for motion in ("walk", "squat"):  # the one-leg simulator's foot never rests on the ground
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            assert process_trial(cached_simulation(motion, 20.0, 3).trial).gait is None
+@pytest.mark.parametrize(("motion", "seed"), [("walk", 3), ("squat", 3), ("sit-to-stand", 3002)])
+def test_no_gait_where_the_foot_never_rests_or_the_leg_does_not_walk(motion, seed):
+    """The one-leg simulator's walk never rests its foot; a squat has no strides; seed 3002's
+    sit-to-stand shows two "strides" of 2 cm between its foot's rests, which is no walk."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert process_trial(cached_simulation(motion, 20.0, seed).trial).gait is None
 
 
 def test_the_two_leg_pipeline_finds_the_legs_gait_together(walk):

@@ -8,9 +8,11 @@ other foot — step time and length, step width, double support — stays null; 
 from the stride time (two steps a stride, ``120 / stride time``), which assumes the two steps
 of a stride alike (``cadence_basis: "stride_time"`` in ``gait.json``).
 
-A trial in which the shank shows no walking (a squat, a sit-to-stand), or whose foot never
-rests between two strides (no stride has a length: the foot is not walking on the ground; the
-one-leg simulator's walk), has no gait: ``None``.
+A trial in which the shank shows no walking (a squat, a sit-to-stand), or with fewer than
+:attr:`GaitParams.min_leg_strides` strides of at least :attr:`GaitParams.min_leg_stride_m`
+(its foot never rests between strides: not walking on the ground, as in the one-leg
+simulator's walk; or it hardly moves between its rests, as a sit-to-stand's foot), has no
+gait: ``None``.
 """
 
 from __future__ import annotations
@@ -115,8 +117,9 @@ def analyse_leg_gait(
     at_ankle = replace(p, sensor_to_ankle_m=(0.0, 0.0, 0.0))  # the track is the ankle centre's
     left, right = (track, None) if side == "left" else (None, track)
     parameters = compute_gait_parameters(events, left, right, params=at_ankle)
-    if not any(np.isfinite(st.stride_length_m) for st in parameters.strides):
-        return None  # the foot never rests between strides: not walking on the ground
+    walked = [st for st in parameters.strides if st.stride_length_m >= p.min_leg_stride_m]  # NaN: no
+    if len(walked) < p.min_leg_strides:
+        return None  # the foot never rests between strides (not walking on the ground), or hardly moves
     shifted = ev.on_clock(start_time_s)
     on_clock = replace(events, left=shifted if left else None, right=shifted if right else None)
     return LegGait(side, on_clock, parameters, track)

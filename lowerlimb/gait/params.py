@@ -170,6 +170,10 @@ class GaitParams:
         pelvis_turn_min_deg: Smallest turn angle kept, deg (El-Gohary et al. 2014: 45).
         pelvis_turn_duration_s: Shortest and longest turn kept, s (El-Gohary et al. 2014:
             0.5 and 10).
+        min_leg_strides: Fewest strides of at least ``min_leg_stride_m`` for a single-leg trial
+            to have a gait (:mod:`lowerlimb.gait.one_leg`).
+        min_leg_stride_m: Shortest stride that counts as walking there, m: a simulated
+            sit-to-stand (seed 3002) showed two "strides" of 2 cm between its foot's rests.
     """
 
     sagittal_lowpass_hz: float = 15.0
@@ -227,8 +231,15 @@ class GaitParams:
     pelvis_turn_merge_s: float = 0.5
     pelvis_turn_min_deg: float = 45.0
     pelvis_turn_duration_s: tuple[float, float] = (0.5, 10.0)
+    min_leg_strides: int = 2
+    min_leg_stride_m: float = 0.1
 
     def __post_init__(self) -> None:
+        if self.min_leg_strides < 1 or not 0 <= self.min_leg_stride_m < np.inf:
+            raise InputError(
+                f"min_leg_strides must be >= 1 and min_leg_stride_m >= 0 m, got {self.min_leg_strides} "
+                f"and {self.min_leg_stride_m}"
+            )
         rate = self.min_event_rate_hz
         if rate is not None and not 0 < rate < np.inf:
             raise InputError(f"min_event_rate_hz must be > 0 Hz or None, got {rate}")
