@@ -424,20 +424,15 @@ def run_calibrate(options: CalibrateOptions) -> TrialResult:
 
 def gait_line(gait: LegGait) -> str:
     """One console line of a leg's gait: strides, stride length and time, cadence, speed."""
-    d = gait.to_dict()
-    leg = d.get(gait.side) or {}
+    m = gait.means()
 
-    def mean(key: str) -> float:
-        value = (leg.get(key) or {}).get("mean")
-        return float("nan") if value is None else float(value)
-
-    def text(value: float | None, fmt: str) -> str:
-        return "–" if value is None or not np.isfinite(value) else format(value, fmt)
+    def text(key: str, fmt: str) -> str:
+        return "–" if not np.isfinite(m[key]) else format(m[key], fmt)
 
     return (
         f"gait ({gait.side} leg, events.csv, gait.json): {gait.n_strides} straight strides of "
-        f"{text(mean('stride_length_m'), '.2f')} m in {text(mean('stride_time_s'), '.2f')} s, "
-        f"{text(d.get('cadence_steps_per_min'), '.0f')} steps/min, {text(mean('gait_speed_m_s'), '.2f')} m/s"
+        f"{text('stride_length_m', '.2f')} m in {text('stride_time_s', '.2f')} s, "
+        f"{text('cadence_steps_per_min', '.0f')} steps/min, {text('gait_speed_m_s', '.2f')} m/s"
     )
 
 

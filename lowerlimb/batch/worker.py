@@ -204,13 +204,8 @@ def leg_gait_results(result: TrialResult) -> dict[str, float]:
         ``stride_length_m`` of the leg's straight strides (:mod:`lowerlimb.gait.one_leg`);
         NaN without walking.
     """
-    d = result.gait.to_dict() if result.gait is not None else {}
-    leg = d.get(result.trial.side) or {}
-    return {
-        "cadence_steps_per_min": _rounded(d.get("cadence_steps_per_min")),
-        "gait_speed_m_s": _rounded((leg.get("gait_speed_m_s") or {}).get("mean")),
-        "stride_length_m": _rounded((leg.get("stride_length_m") or {}).get("mean")),
-    }
+    m = result.gait.means() if result.gait is not None else {}
+    return {k: _rounded(m.get(k)) for k in ("cadence_steps_per_min", "gait_speed_m_s", "stride_length_m")}
 
 
 def _split_half_max_mm(result: TrialResult) -> float:

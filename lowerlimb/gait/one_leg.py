@@ -51,11 +51,22 @@ class LegGait:
     def to_dict(self) -> dict[str, Any]:
         """``gait.json`` of one leg: the two-leg keys, the other side's and the step keys null."""
         out = self.parameters.to_dict()
-        leg = out.get(self.side)
-        stride = leg["stride_time_s"]["mean"] if leg else float("nan")
-        out["cadence_steps_per_min"] = 120.0 / stride if np.isfinite(stride) and stride > 0 else None
+        cadence = self.means()["cadence_steps_per_min"]
+        out["cadence_steps_per_min"] = cadence if np.isfinite(cadence) else None
         out["cadence_basis"] = "stride_time"
         out["legs"] = [self.side]
+        return out
+
+    def means(self) -> dict[str, float]:
+        """Means over the leg's straight strides; NaN where there are none.
+
+        Keys: ``stride_length_m``, ``stride_time_s``, ``gait_speed_m_s`` and
+        ``cadence_steps_per_min`` (``120 / stride time``).
+        """
+        leg = self.parameters.summary(self.side)
+        out = {k: float(leg[k]["mean"]) for k in ("stride_length_m", "stride_time_s", "gait_speed_m_s")}
+        stride = out["stride_time_s"]
+        out["cadence_steps_per_min"] = 120.0 / stride if np.isfinite(stride) and stride > 0 else float("nan")
         return out
 
     @property
