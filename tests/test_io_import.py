@@ -572,3 +572,18 @@ def test_real_walk_imports():
         mag_norm = np.linalg.norm(trial.mag[s], axis=1)
         assert 25.0 < np.median(mag_norm) < 70.0  # µT: a plausible Earth field
     np.testing.assert_allclose(rec.acc["left_thigh"], trial.acc["thigh"])
+
+
+def test_cli_import_gap_refused_names_max_gap_and_max_gap_bridges_it(tmp_path, capsys):
+    folder = _export_dir(tmp_path, foot={"drop": set(range(1100, 1112))})  # 0.12 s lost
+    out = tmp_path / "trial.csv"
+    argv = ["import", "xsens", str(folder), "--map", ",".join(f"{k}={v}" for k, v in IDS.items())]
+    assert main([*argv, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "foot has a gap of 0.12 s" in err and "--max-gap 0.13" in err
+    assert not out.exists()
+    assert main([*argv, "--out", str(out), "--max-gap", "0.11"]) == 2
+    assert main([*argv, "--out", str(out), "--max-gap", "0.13"]) == 0
+    assert "12 samples filled" in capsys.readouterr().out
+    assert main([*argv, "--out", str(out), "--force", "--max-gap", "0"]) == 2
+    assert "must be positive" in capsys.readouterr().err

@@ -3,8 +3,8 @@
 ::
 
     lowerlimb import xsens DIR --map pelvis=ID,thigh=ID,shank=ID,foot=ID --side left --out trial.csv
-                         [--mag-field-ut 50] [--force]
-    lowerlimb import csv FILE --mapping MAP.json --out trial.csv [--force]
+                         [--mag-field-ut 50] [--max-gap 0.1] [--force]
+    lowerlimb import csv FILE --mapping MAP.json --out trial.csv [--max-gap 0.1] [--force]
 
 A two-leg map (``pelvis, left_thigh, …, right_foot``) writes the two-leg trial
 CSV. The output is written atomically and never replaces an existing file
@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from lowerlimb.errors import InputError
+from lowerlimb.io.params import ImportParams
 
 
 def _map_argument(text: str) -> dict[str, str]:
@@ -73,6 +74,15 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     c = sub.add_parser("csv", help="any per-column CSV, through a JSON mapping of columns and units")
     c.add_argument("file", type=Path, metavar="FILE", help="the vendor CSV")
     c.add_argument("--mapping", required=True, type=Path, metavar="MAP.json", help="column/unit mapping")
+    for q in (x, c):
+        q.add_argument(
+            "--max-gap",
+            type=_positive,
+            default=ImportParams.max_gap_s,
+            metavar="S",
+            help="longest run of missing samples filled by interpolation, s; a longer one is refused "
+            f"(default: {ImportParams.max_gap_s:g})",
+        )
 
     for q in (x, c):
         q.add_argument("--out", required=True, type=Path, help="trial CSV to write")
@@ -92,14 +102,15 @@ def run(args: argparse.Namespace) -> int:
     if out.exists() and not args.force:
         raise InputError(f"{out} already exists; choose another --out or pass --force to replace it")
     rec: ImportedRecording
+    params = ImportParams(max_gap_s=args.max_gap)
     if args.vendor == "xsens":
         two_leg = any(k.startswith(("left_", "right_")) for k in args.map)
         if two_leg and args.side is not None:
             raise InputError("--side is for a one-leg map; a two-leg map names left_… and right_… sensors")
         mag = XSENS_MAG_FIELD_UT if args.mag_field_ut is None else args.mag_field_ut
-        rec = load_xsens(args.directory, args.map, side=args.side, mag_field_ut=mag)
+        rec = load_xsens(args.directory, args.map, side=args.side, mag_field_ut=mag, params=params)
     else:
-        rec = load_mapped_csv(args.file, args.mapping)
+        rec = load_mapped_csv(args.file, args.mapping, params=params)
     write_atomically(out, rec.to_csv)
     legs = "both legs" if rec.two_leg else f"{rec.side} leg"
     rate = (rec.n_samples - 1) / float(rec.time_s[-1] - rec.time_s[0])

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 from lowerlimb.errors import InputError
@@ -39,17 +40,36 @@ class ColumnNotFoundError(InputError):
 
 
 class PacketGapError(InputError):
-    """A run of missing packets (or samples) is too long to fill by interpolation."""
+    """A run of missing packets (or samples) is too long to fill by interpolation.
 
-    def __init__(self, sensor: str, start_s: float, length_s: float, limit_s: float) -> None:
+    Attributes:
+        sensor: the sensor (or ``"the trial"``, ``"the recording"``) with the gap.
+        start_s: where the gap starts, s from the first sample.
+        length_s: the gap, s.
+        limit_s: the longest gap that is filled, s.
+        importer: the gap was met by ``lowerlimb import`` (whose ``--max-gap`` bridges it), not
+            by a trial CSV's reader (which bridges at most a tenth of a second).
+    """
+
+    def __init__(
+        self, sensor: str, start_s: float, length_s: float, limit_s: float, importer: bool = False
+    ) -> None:
         self.sensor = sensor
         self.start_s = start_s
         self.length_s = length_s
         self.limit_s = limit_s
+        self.importer = importer
+        enough = math.ceil(length_s * 100 + 1e-6) / 100  # s, just over the gap
+        bridge = (
+            f", or bridge it by interpolation with `lowerlimb import … --max-gap {enough:g}` "
+            f"(ImportParams.max_gap_s)"
+            if importer
+            else ""
+        )
         super().__init__(
             f"{sensor} has a gap of {length_s:.3g} s at {start_s:.3f} s, longer than the "
             f"{limit_s:.3g} s that may be filled by interpolation; cut the recording before or "
-            f"after the gap, or raise ImportParams.max_gap_s"
+            f"after the gap{bridge}"
         )
 
 

@@ -165,7 +165,7 @@ def resample_uniform(
     dt = np.diff(time_s)
     if dt.size and dt.max() > max_gap_s:
         k = int(np.argmax(dt))
-        raise PacketGapError("the recording", float(time_s[k]), float(dt[k]), max_gap_s)
+        raise PacketGapError("the recording", float(time_s[k]), float(dt[k]), max_gap_s, importer=True)
     n = int(np.floor(time_s[-1] * rate_hz + 1e-9)) + 1
     grid = np.arange(n) / rate_hz
     return grid, np.column_stack([np.interp(grid, time_s, data[:, j]) for j in range(data.shape[1])])
@@ -220,7 +220,10 @@ def load_mapped_csv(
     if m.resample_hz is not None:
         t, data = resample_uniform(t, data, m.resample_hz, params.max_gap_s, names[1:])
     else:  # uneven steps onto the recorder's own constant clock, as a trial CSV's
-        t, (data,), _ = to_uniform_clock(t, [data], ClockParams(max_gap_s=params.max_gap_s))
+        try:
+            t, (data,), _ = to_uniform_clock(t, [data], ClockParams(max_gap_s=params.max_gap_s))
+        except PacketGapError as e:
+            raise PacketGapError("the recording", e.start_s, e.length_s, e.limit_s, importer=True) from None
     signals: dict[str, dict[str, FloatArray]] = {q: {} for q in QUANTITY_UNITS}
     col = 0
     for sensor, quantities in m.sensors.items():

@@ -285,7 +285,7 @@ def _fill(
     if step.size and step.max() - 1 > params.max_gap_s * rate_hz:
         k = int(np.argmax(step))
         raise PacketGapError(
-            sensor, (c[k] + 1 - grid[0]) / rate_hz, (step[k] - 1) / rate_hz, params.max_gap_s
+            sensor, (c[k] + 1 - grid[0]) / rate_hz, (step[k] - 1) / rate_hz, params.max_gap_s, importer=True
         )
 
     def interp(x: FloatArray, at: np.ndarray) -> FloatArray:
