@@ -55,7 +55,7 @@ from .model.fallback import segment_lengths, with_plausible_lengths
 from .model.leg_model import LegModel
 from .orientation.estimate import estimate_orientation_passes
 from .orientation.magnetic import check_magnetic_field
-from .orientation.sign_check import InvertedSignError, chain_sign_check
+from .orientation.sign_check import InvertedSignError, InvertedSignWarning, chain_sign_check
 from .s2j import S2JModel, constant_s2j_from_calibration
 from .segments.angle_range import ImplausibleAnglesWarning, implausible_angles
 from .segments.tracking import SegmentMotion, track_segments
@@ -631,8 +631,10 @@ def process_trial(
         if "" in signs.decided_by[1:]:  # the knee or ankle left open: hear the axial witness (0.4 s)
             axial = _axial_witnesses(trial, still, calib, calibration is not None)
             signs = chain_sign_check(orientations.quat_wxyz, gyr, _CHAIN_EDGES, trial.rate_hz, axial=axial)
-        if signs.inverted:
+        if signs.inverted and signs.firm:
             raise InvertedSignError(signs)
+        if signs.inverted:
+            warnings.warn(InvertedSignWarning(signs), stacklevel=2)
 
     clock.start()
     motion = track_segments(

@@ -13,8 +13,13 @@ import lowerlimb as ll
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.conventions import quat_multiply
 from lowerlimb.errors import InputError
-from lowerlimb.orientation.sign_check import InvertedSignError, chain_sign_check, vertical_rate
-from lowerlimb.simulation import ImuNoise
+from lowerlimb.orientation.sign_check import (
+    InvertedSignError,
+    InvertedSignWarning,
+    chain_sign_check,
+    vertical_rate,
+)
+from lowerlimb.simulation import Artefacts, ImuNoise, simulate
 
 RATE = 100.0
 CHAIN = (("pelvis", "thigh"), ("thigh", "shank"), ("shank", "foot"))
@@ -110,6 +115,32 @@ def test_the_axial_witness_decides_a_walk_that_does_not_turn():
     assert "shank–foot along the joint axis -0.60" in msg and "about the vertical" not in msg
     assert check.decided_by == ("", "axial", "axial")
     assert check.to_dict()["axial_correlation"]["shank-foot"] == -0.6
+    assert not check.firm  # −0.6 alone: soft tissue gives such values; warned, not refused
+    assert "the foot may have its accelerometer or gyro sign inverted" in str(InvertedSignWarning(check))
+    strong = chain_sign_check(*_turning(still=still), CHAIN, RATE, axial=axial | {("shank", "foot"): -0.95})
+    assert strong.inverted == ("foot",) and strong.firm
+
+
+def test_a_weak_axial_witness_is_warned_about_a_turn_refuses():
+    """Only a negative edge decided by the vertical rates or a strong axial witness refuses."""
+    weak = {("thigh", "shank"): -0.8, ("shank", "foot"): 0.9}
+    check = chain_sign_check(*_turning(still=("pelvis", "thigh", "shank", "foot")), CHAIN, RATE, axial=weak)
+    assert check.inverted == ("thigh",) and not check.firm
+    turned = chain_sign_check(*_turning(inverted=("thigh",)), CHAIN, RATE, axial=weak)
+    assert turned.inverted == ("thigh",) and turned.firm and turned.decided_by[0] == "vertical"
+
+
+def test_a_sit_to_stand_with_soft_tissue_is_not_refused_for_its_knee_witness():
+    """Seed 3002's sit-to-stand with the real-walk artefacts: the knee's axial witness reads −0.54
+    (the thigh sensor turns on the soft tissue with the knee angle; gravity leaks into the small
+    axial acceleration) and nothing turns; it was refused as an inverted thigh, now warned."""
+    sim = simulate("sit-to-stand", duration_s=20.0, seed=3002, artefacts=Artefacts.real_walk())
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ll.process_trial(sim.trial)
+    named = [w.message for w in caught if w.category is InvertedSignWarning]
+    assert len(named) == 1 and named[0].sensors == ("thigh",)  # type: ignore[union-attr]
+    assert not named[0].check.firm  # type: ignore[union-attr]
 
 
 def test_the_vertical_rates_overrule_the_axial_witness():
