@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from lowerlimb.bilateral import process_bilateral_trial
-from lowerlimb.bilateral.pelvis import OppositeKneesError
+from lowerlimb.bilateral.pelvis import OppositeKneesWarning
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.conventions import SIDES
 from lowerlimb.io import load_xsens
@@ -70,16 +70,12 @@ def score_seed(seed: int, artefacts: Artefacts) -> dict[str, Any]:
         t0 = time.perf_counter()
         kw: dict[str, Any] = {"calibration_options": CalibrationOptions(clock_sync=on), "side_check": False}
         key = "sync" if on else "plain"
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            try:
-                res = process_bilateral_trial(sim.trial, **kw)
-                out[f"{key}_one_pelvis_refused"] = False
-            except OppositeKneesError:
-                # the legs' pelvis frames point apart (an undetermined hip turned a thigh's
-                # heading): counted, then scored with each leg's own pelvis, as gait.py does
-                out[f"{key}_one_pelvis_refused"] = True
-                res = process_bilateral_trial(sim.trial, one_pelvis=False, **kw)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            res = process_bilateral_trial(sim.trial, **kw)
+        # the legs' pelvis frames point apart (an undetermined hip turned a thigh's heading):
+        # each leg kept its own pelvis, with a warning; counted, as gait.py does
+        out[f"{key}_one_pelvis_refused"] = any(w.category is OppositeKneesWarning for w in caught)
         pair_err = []
         for side in SIDES:
             truth = _pair_lags(off, side)

@@ -47,6 +47,7 @@ from ..model.anthropometry import hip_spacing_m
 __all__ = [
     "JointHips",
     "OppositeKneesError",
+    "OppositeKneesWarning",
     "PelvisParams",
     "SharedPelvis",
     "joint_hip_centers",
@@ -90,6 +91,20 @@ class OppositeKneesError(InputError):
             f"to the subject's right: one leg's sensors look mirrored or belong to the other leg, one knee "
             f"barely bends, or a hip centre is undetermined (its warning says so) and turned that thigh's "
             f"heading; check the left_* and right_* columns and each sensor's axes in the export"
+        )
+
+
+class OppositeKneesWarning(UserWarning):
+    """The two-leg pipeline met :class:`OppositeKneesError` and kept each leg's own pelvis."""
+
+    def __init__(self, angle_deg: float) -> None:
+        self.angle_deg = angle_deg
+        super().__init__(
+            f"the two knee axes point {angle_deg:.0f}° apart seen from the pelvis, but both should point "
+            f"to the subject's right, so the legs do not share one pelvis: each keeps its own pelvis frame "
+            f"and hip centre (as two one-leg trials). A hip centre is undetermined (its warning says so) "
+            f"and turned that thigh's heading, one knee barely bends, or one leg's sensors look mirrored "
+            f"or belong to the other leg: check the left_* and right_* columns and each sensor's axes"
         )
 
 

@@ -52,7 +52,7 @@ from ..segments.angle_range import ImplausibleAnglesWarning, implausible_angles
 from ..segments.tracking import track_segments
 from .gait import BilateralGait, analyse_gait
 from .hips import HipCheck, HipParams, HipSpacingWarning, check_hips
-from .pelvis import PelvisParams, SharedPelvis, shared_pelvis
+from .pelvis import OppositeKneesError, OppositeKneesWarning, PelvisParams, SharedPelvis, shared_pelvis
 
 __all__ = ["BilateralResult", "BilateralSideError", "process_bilateral_trial"]
 
@@ -353,6 +353,15 @@ def _one_pelvis(
     return out, pelvis
 
 
+def _own_pelvises(legs: dict[str, TrialResult], *, height_m: float, mass_kg: float) -> dict[str, TrialResult]:
+    """Each leg with its own pelvis: the forward kinematics the one-pelvis stage would have redone."""
+    out = {}
+    for side, r in legs.items():
+        model, positions, s2j = build_model(r.calibration, r.motion, height_m=height_m, mass_kg=mass_kg)
+        out[side] = replace(r, model=model, positions_m=positions, s2j=s2j)
+    return out
+
+
 def process_bilateral_trial(
     trial: BilateralTrial,
     *,
@@ -395,6 +404,9 @@ def process_bilateral_trial(
             file's column names), or a leg's problem (prefixed with the leg).
 
     Warns:
+        OppositeKneesWarning: the two knee axes point apart seen from the pelvis
+            (:class:`~lowerlimb.bilateral.pelvis.OppositeKneesError`); each leg keeps its own
+            pelvis, as with ``one_pelvis=False``.
         HipSpacingWarning: the two hip centres do not look like one pelvis.
         NoGaitWarning: the trial has no walking.
     """
@@ -433,9 +445,13 @@ def process_bilateral_trial(
     pelvis = None
     if one_pelvis:
         t0 = time.perf_counter()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", StandingStartWarning)  # said once above
-            legs, pelvis = _one_pelvis(legs, height_m=height_m, mass_kg=mass_kg, params=pelvis_params)
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", StandingStartWarning)  # said once above
+                legs, pelvis = _one_pelvis(legs, height_m=height_m, mass_kg=mass_kg, params=pelvis_params)
+        except OppositeKneesError as e:  # never worse than the two legs as one-leg trials
+            warnings.warn(OppositeKneesWarning(e.angle_deg), stacklevel=2)
+            legs = _own_pelvises(legs, height_m=height_m, mass_kg=mass_kg)
         timings["one pelvis"] = time.perf_counter() - t0
     for side, r in legs.items():
         for message in implausible_angles(r.angles_rad, r.trial.gyr["shank"]):
