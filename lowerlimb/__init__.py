@@ -14,7 +14,7 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
-__version__ = "0.5.12"
+__version__ = "0.5.13"
 
 _EXPORTS = {
     "calibrate_leg": "calibration",
