@@ -19,7 +19,6 @@ from pathlib import Path
 from typing import Any
 
 from lowerlimb.errors import InputError
-from lowerlimb.io.params import ImportParams
 
 
 def _map_argument(text: str) -> dict[str, str]:
@@ -78,10 +77,10 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         q.add_argument(
             "--max-gap",
             type=_positive,
-            default=ImportParams.max_gap_s,
+            default=None,
             metavar="S",
             help="longest run of missing samples filled by interpolation, s; a longer one is refused "
-            f"(default: {ImportParams.max_gap_s:g})",
+            "(default: lowerlimb.io.ImportParams.max_gap_s, 0.1)",
         )
 
     for q in (x, c):
@@ -94,7 +93,7 @@ def run(args: argparse.Namespace) -> int:
     """Run ``lowerlimb import``; return the exit status (errors are raised as InputError)."""
     from lowerlimb.io import ImportedRecording, load_mapped_csv, load_xsens
     from lowerlimb.io.atomic import write_atomically
-    from lowerlimb.io.params import XSENS_MAG_FIELD_UT
+    from lowerlimb.io.params import XSENS_MAG_FIELD_UT, ImportParams
 
     out = Path(args.out)
     if out.is_dir():
@@ -102,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
     if out.exists() and not args.force:
         raise InputError(f"{out} already exists; choose another --out or pass --force to replace it")
     rec: ImportedRecording
-    params = ImportParams(max_gap_s=args.max_gap)
+    params = ImportParams() if args.max_gap is None else ImportParams(max_gap_s=args.max_gap)
     if args.vendor == "xsens":
         two_leg = any(k.startswith(("left_", "right_")) for k in args.map)
         if two_leg and args.side is not None:
