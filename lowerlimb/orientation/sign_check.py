@@ -71,13 +71,14 @@ class SignCheckParams:
             (:mod:`lowerlimb.calibration.axial_sign`) decides when at least this far from
             zero (where the gyros fix the axes: rigid simulated knees +0.89 … +1.0, the real
             walk's knee +0.82 and ankles +0.95, −0.95 with the foot negated; with the
-            real-walk artefacts −0.14 … +0.78, so mostly no verdict).
+            real-walk artefacts the knee's −0.83 … +1.0 on unmodified squats and
+            sit-to-stands).
         min_refuse_axial: a sensor named by axial witnesses alone is refused only when a
             negative one is at least this far from zero; nearer, it is named in an
             :class:`InvertedSignWarning` and the trial goes on. Unmodified one-leg
             squats and sit-to-stands simulated with the real-walk artefacts put the knee's
             witness as low as −0.83 (soft tissue turns the thigh sensor with the knee
-            angle, and gravity leaks into the small axial acceleration; 1 in 12,
+            angle, and gravity leaks into the small axial acceleration;
             ``benchmarks/results/sign_check.md``), where rigid knees give +0.89 … +1.0 and
             the real walk's ankles +0.95.
     """
