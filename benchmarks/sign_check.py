@@ -12,9 +12,10 @@ trial goes through the pipeline (``lowerlimb.orientation.sign_check`` is on by d
 
 Each cell says what happened: ``sign`` (refused by the sign check, naming that sensor),
 ``sign?`` (refused by it, naming another sensor or two), ``other`` (refused for another
-reason: the wrong side, swapped columns, …), ``warned`` (calibrated, with an
-``ImplausibleAnglesWarning``: ``lowerlimb.segments.angle_range``), ``accepted`` (calibrated
-without that warning: a silent wrong result). For the unmodified trials, anything but
+reason: the wrong side, swapped columns, …), ``sign warning`` (calibrated, with the sign
+check's ``InvertedSignWarning``), ``warned`` (calibrated, with an ``ImplausibleAnglesWarning``,
+``lowerlimb.segments.angle_range``, or two legs' ``OppositeKneesWarning``), ``accepted``
+(calibrated without these warnings: a silent wrong result). For the unmodified trials, anything but
 ``accepted`` is a false refusal (or warning).
 
 Usage: ``python benchmarks/sign_check.py [--data DIR] [--out DIR]``; writes
@@ -35,6 +36,7 @@ from pathlib import Path
 from typing import Any
 
 from lowerlimb.bilateral import process_bilateral_trial
+from lowerlimb.bilateral.pelvis import OppositeKneesWarning
 from lowerlimb.io.bilateral_trial import BilateralTrial
 from lowerlimb.orientation.sign_check import InvertedSignError, InvertedSignWarning
 from lowerlimb.pipeline import process_trial
@@ -73,7 +75,8 @@ def _outcome(run: Any, sensor: str | None) -> str:
             return "other"
     if any(w.category is InvertedSignWarning for w in caught):
         return "sign warning"
-    return "warned" if any(w.category is ImplausibleAnglesWarning for w in caught) else "accepted"
+    doubts = (ImplausibleAnglesWarning, OppositeKneesWarning)
+    return "warned" if any(w.category in doubts for w in caught) else "accepted"
 
 
 def _negated(values: dict[str, Any], sensor: str | None) -> dict[str, Any]:
@@ -192,9 +195,11 @@ def markdown(res: dict[str, list[dict[str, Any]]]) -> str:
         "`sign?`: refused by it naming another or two; `sign warning`: calibrated, with the",
         "sign check's warning (a sensor named by a weak axial witness alone, nearer zero than",
         "`SignCheckParams.min_refuse_axial`); `other`: refused for another reason; `warned`:",
-        "calibrated with an implausible-angles warning; `accepted`: calibrated without either",
-        "(a silent wrong result). The last row counts the unmodified trials, where anything but",
-        "`accepted` is a false refusal (or warning).",
+        "calibrated with an implausible-angles warning, or with two legs' warning that the knees",
+        "point apart (each leg then keeps its own pelvis; such trials were refused before",
+        "0.5.13); `accepted`: calibrated without these (a silent wrong result). The last row",
+        "counts the unmodified trials, where anything but `accepted` is a false refusal (or",
+        "warning).",
         "",
     ]
     titles = {

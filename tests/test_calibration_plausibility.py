@@ -133,6 +133,31 @@ def test_a_squat_with_thigh_and_shank_exchanged_names_them():
         calibrate_leg(_swap(trial, "thigh", "shank"))
 
 
+@pytest.mark.parametrize(("motion", "seed"), [("knee-lift", 3021), ("sit-to-stand", 3006)])
+def test_valid_soft_tissue_trials_are_not_called_swapped(motion, seed):
+    """A knee lift whose summed hip + ankle test favours the columns as given 3.9× was refused
+    as thigh/shank swapped on the ankle's term alone; a sit-to-stand whose knee is the better
+    hinge by 1.49× (the veto was 1.5) as shank/foot swapped. Both valid, 20 s, artefacts."""
+    from lowerlimb.calibration.plausibility import SwapVetoWarning, check_sensor_order
+    from lowerlimb.simulation import Artefacts
+
+    trial = cached_simulation(motion, 20.0, seed, artefacts=Artefacts.real_walk()).trial
+    opts = CalibrationOptions()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", SwapVetoWarning)
+        check_sensor_order(trial.acc, trial.gyr, _prepared(trial, opts), opts)  # no SensorOrderError
+    if motion == "knee-lift":  # its true thigh/shank swap is still named
+        swapped = _swap(trial, "thigh", "shank")
+        with pytest.raises(SensorOrderError, match="thigh and shank"):
+            check_sensor_order(swapped.acc, swapped.gyr, _prepared(swapped, opts), opts)
+
+
+def _prepared(trial, opts):
+    from lowerlimb.calibration._prepare import prepare_signals
+
+    return prepare_signals(trial.acc, trial.gyr, trial.rate_hz, opts, still=trial.still_period())
+
+
 def test_the_two_pairings_are_compared_through_one_filter(monkeypatch):
     """A residual's RMS grows with its band. A pair that shares no joint (thigh–foot) gets a
     low rigid-band cap, and on a slow walk with the real-walk artefacts (a first draft of
