@@ -81,17 +81,22 @@ class PelvisParams:
     max_knee_axes_angle_deg: float = 135.0
 
 
+def _knees_apart(angle_deg: float, consequence: str) -> str:
+    """The message of two knee axes ``angle_deg`` apart, with what became of the trial."""
+    return (
+        f"the two knee axes point {angle_deg:.0f}° apart seen from the pelvis, but both should point "
+        f"to the subject's right{consequence}: a hip centre is undetermined (its warning says so) and "
+        f"turned that thigh's heading, one knee barely bends, or one leg's sensors look mirrored or "
+        f"belong to the other leg; check the left_* and right_* columns and each sensor's axes"
+    )
+
+
 class OppositeKneesError(InputError):
     """The two knee axes (both meant to point right) point apart; carries their angle (deg)."""
 
     def __init__(self, angle_deg: float) -> None:
         self.angle_deg = angle_deg
-        super().__init__(
-            f"the two knee axes point {angle_deg:.0f}° apart seen from the pelvis, but both should point "
-            f"to the subject's right: one leg's sensors look mirrored or belong to the other leg, one knee "
-            f"barely bends, or a hip centre is undetermined (its warning says so) and turned that thigh's "
-            f"heading; check the left_* and right_* columns and each sensor's axes in the export"
-        )
+        super().__init__(_knees_apart(angle_deg, ""))
 
 
 class OppositeKneesWarning(UserWarning):
@@ -100,11 +105,11 @@ class OppositeKneesWarning(UserWarning):
     def __init__(self, angle_deg: float) -> None:
         self.angle_deg = angle_deg
         super().__init__(
-            f"the two knee axes point {angle_deg:.0f}° apart seen from the pelvis, but both should point "
-            f"to the subject's right, so the legs do not share one pelvis: each keeps its own pelvis frame "
-            f"and hip centre (as two one-leg trials). A hip centre is undetermined (its warning says so) "
-            f"and turned that thigh's heading, one knee barely bends, or one leg's sensors look mirrored "
-            f"or belong to the other leg: check the left_* and right_* columns and each sensor's axes"
+            _knees_apart(
+                angle_deg,
+                ", so the legs do not share one pelvis: each keeps its own pelvis frame and hip "
+                "centre (as two one-leg trials)",
+            )
         )
 
 
