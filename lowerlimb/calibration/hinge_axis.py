@@ -271,6 +271,7 @@ def flexion_sign_margin(
     drift_hz: float = 0.1,
     raw_window_s: float | None = None,
     raw_min_score: float = 0.0,
+    drift_free_min_score: float = 0.0,
 ) -> float:
     """How clearly the axes' sign makes flexion the dominant excursion (> 0: keep, < 0: flip), rad.
 
@@ -303,7 +304,10 @@ def flexion_sign_margin(
             (``None``: the whole trial).
         raw_min_score: below this score (0–1) the test from a standing start is not used
             when the drift-free test can be made (without a standing start, flexion is taken
-            from its mean, about which no knee scores near 1).
+            from its mean, about which no knee scores near 1) ...
+        drift_free_min_score: ... and scores at least this; below it the drift-free test
+            says nothing (pulses as long as the rests between them swing about their
+            running mean to both sides alike) and the higher score of the two decides.
 
     Returns:
         The signed margin ``p99 + p1`` of the deciding test, rad.
@@ -312,7 +316,12 @@ def flexion_sign_margin(
     tests = _flexion_tests(axis_parent, axis_child, gyr_parent, gyr_child, rate_hz, n_still, drift_hz)
     if raw_window_s is not None:
         tests[0] = tests[0][: n_still + max(1, int(raw_window_s * rate_hz))]
-    if n_still >= 1 and len(tests) > 1 and _one_sidedness(tests[0])[1] < raw_min_score:
+    if (
+        n_still >= 1
+        and len(tests) > 1
+        and _one_sidedness(tests[0])[1] < raw_min_score
+        and _one_sidedness(tests[1])[1] >= drift_free_min_score
+    ):
         tests = tests[1:]
     for x in tests:
         margin, score = _one_sidedness(x)
@@ -573,6 +582,7 @@ def fit_hinge_axis(
         n_still,
         raw_window_s=options.sign_raw_window_s,
         raw_min_score=options.sign_raw_min_score,
+        drift_free_min_score=options.sign_drift_free_min_score,
     )
     if margin < 0:
         jp, jc = -jp, -jc

@@ -111,6 +111,13 @@ class CalibrationOptions:
             knee flexing 60° from a straight leg scores 0.72 even if it also extends 10° beyond
             straight, and 0.97 on both knees of the real walk; that walk's right knee with its
             gyros cut at ±300 °/s scored 0.22 and came out mirrored).
+        sign_drift_free_min_score: ... but only when the drift-free test scores at least
+            this (0–1); below it that test says nothing and the higher score of the two
+            decides. Flexion pulses about as long as the rests between them, as in repeated
+            knee lifts, swing about their running mean to both sides alike: a simulated knee
+            lift with the artefact profile (seed 2, 40 s) scored 0.059 drift-free (0.002
+            with the true axes) against 0.27 from the start, and came out mirrored (hip and
+            knee flexion −57 / −58° median); a gait-like knee scores about 0.3 drift-free.
         sign_one_sided_margin: when neither the gyro coherence nor the accelerometers settle
             a hinge's relative axis sign, the candidate whose drift-free joint angle is more
             one-sided by at least this score (0–1) is taken
@@ -385,6 +392,7 @@ class CalibrationOptions:
     hinge_band_max_disagreement_deg: float = 5.0
     sign_raw_window_s: float = 60.0
     sign_raw_min_score: float = 0.7
+    sign_drift_free_min_score: float = 0.15
     sign_one_sided_margin: float = 0.15
     hinge_starts: int = 3
     hinge_centre_start_m: float | None = 0.25
@@ -553,6 +561,10 @@ class CalibrationOptions:
             raise InputError(f"sign_raw_window_s must be > 0 s, got {self.sign_raw_window_s}")
         if not 0.0 <= self.sign_raw_min_score <= 1.0:
             raise InputError(f"sign_raw_min_score must be in [0, 1], got {self.sign_raw_min_score}")
+        if not 0.0 <= self.sign_drift_free_min_score <= 1.0:
+            raise InputError(
+                f"sign_drift_free_min_score must be in [0, 1], got {self.sign_drift_free_min_score}"
+            )
         if not self.aligned_window_s > 0 or self.aligned_iterations < 1:
             raise InputError(
                 f"aligned_window_s must be > 0 s and aligned_iterations >= 1, got "
