@@ -403,6 +403,20 @@ def prepare_pair(
         UnitError: a gyro that looks like deg/s.
         InputError: non-positive rate or too few samples.
     """
+    acc, gyr, rate = _checked_pair(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, options)
+    sig = prepare_signals(acc, gyr, rate, options)
+    return sig, joint_signals(acc, gyr, sig, "p", "c", options, own_band=rigid_band)
+
+
+def _checked_pair(
+    acc_parent: ArrayLike,
+    gyr_parent: ArrayLike,
+    acc_child: ArrayLike,
+    gyr_child: ArrayLike,
+    rate_hz: float,
+    options: CalibrationOptions,
+) -> tuple[dict[str, FloatArray], dict[str, FloatArray], float]:
+    """A pair's four signals checked and upsampled as :func:`prepare_pair` says: ``(acc, gyr, rate)``."""
     rate = check_rate(rate_hz)
     ap = check_signal(acc_parent, "acc_parent", "m/s²")
     n = ap.shape[0]
@@ -411,6 +425,47 @@ def prepare_pair(
     wc = check_signal(gyr_child, "gyr_child", "rad/s", n)
     check_duration(n, rate, options)
     k = upsample_factor(rate, options.min_fit_rate_hz)
-    acc, gyr = upsampled({"p": ap, "c": ac}, k), upsampled({"p": wp, "c": wc}, k)
-    sig = prepare_signals(acc, gyr, rate * k, options)
-    return sig, joint_signals(acc, gyr, sig, "p", "c", options, own_band=rigid_band)
+    return upsampled({"p": ap, "c": ac}, k), upsampled({"p": wp, "c": wc}, k), rate * k
+
+
+@dataclass(frozen=True)
+class PairBands:
+    """A sensor pair prepared at its own cut-offs and, where its rigid band caps them, at the cap.
+
+    Attributes:
+        sig: the prepared signals of sensors ``"p"`` and ``"c"`` (rate checked, maybe upsampled).
+        full: the pair's data at the sensors' own adaptive cut-offs.
+        capped: the pair's data at the cut-offs its rigid band caps
+            (:func:`rigid_band_cap_hz`), ``None`` where the cap changes no cut-off.
+        cap_hz: the rigid band's cap, Hz (``None``: the norms stay coherent, or no band sought).
+    """
+
+    sig: PreparedSignals
+    full: SphericalData
+    capped: SphericalData | None
+    cap_hz: float | None
+
+
+def prepare_pair_bands(
+    acc_parent: ArrayLike,
+    gyr_parent: ArrayLike,
+    acc_child: ArrayLike,
+    gyr_child: ArrayLike,
+    rate_hz: float,
+    options: CalibrationOptions,
+) -> PairBands:
+    """:func:`prepare_pair` both without and with the pair's rigid-band cap (arguments as there).
+
+    Raises:
+        ShapeError: an array is not (N, 3) or lengths differ.
+        NonFiniteValueError: NaN or inf in a signal.
+        UnitError: a gyro that looks like deg/s.
+        InputError: non-positive rate or too few samples.
+    """
+    acc, gyr, rate = _checked_pair(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, options)
+    sig = prepare_signals(acc, gyr, rate, options)
+    full = joint_signals(acc, gyr, sig, "p", "c", options, own_band=False)
+    caps: dict[str, float | None] = {}
+    capped: set[str] = set()
+    band = joint_signals(acc, gyr, sig, "p", "c", options, caps, capped=capped)
+    return PairBands(sig, full, band if capped else None, caps["p-c"])

@@ -29,6 +29,7 @@ Pipeline (choices the paper leaves open are written here):
 from __future__ import annotations
 
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import replace
 
@@ -36,7 +37,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 import solvers
-from lowerlimb.calibration._prepare import check_rate, prepare_pair
+from lowerlimb.calibration._prepare import check_rate, prepare_pair, prepare_pair_bands
 from lowerlimb.calibration._rotation import low_rotation_messages
 from lowerlimb.calibration._solve import LsqProblem, solve_global, solve_local, subsample_step
 from lowerlimb.calibration.excitation import correlation_time, issue_warnings, jacobian_report
@@ -44,6 +45,7 @@ from lowerlimb.calibration.geometry import basis_with_first_axis
 from lowerlimb.calibration.impact_window import impact_keep_mask
 from lowerlimb.calibration.noise_correction import corrected_gauss_newton
 from lowerlimb.calibration.options import CalibrationOptions, check_method
+from lowerlimb.calibration.pair_band import choose_band
 from lowerlimb.calibration.results import SphericalJointCalibration
 from lowerlimb.calibration.robust_weights import huber_weights
 from lowerlimb.calibration.segment_prior import CenterPrior
@@ -485,21 +487,62 @@ def calibrate_spherical_joint(
     """
     opts = options or CalibrationOptions()
     check_method(method)
-    sig, data = prepare_pair(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, opts)
+    signals = (acc_parent, gyr_parent, acc_child, gyr_child)
+    if opts.pair_band_test:
+        bands = prepare_pair_bands(*signals, rate_hz, opts)
+        sig, data, capped = bands.sig, bands.full, bands.capped
+    else:
+        sig, data = prepare_pair(*signals, rate_hz, opts)
+        capped = None
     keep = None
     if opts.impact_exclusion:
         k = upsample_factor(check_rate(rate_hz), opts.min_fit_rate_hz)  # as prepare_pair did
         raw = upsampled({"p": np.asarray(acc_parent, float), "c": np.asarray(acc_child, float)}, k)
         keep = impact_keep_mask((raw["p"], raw["c"]), sig.rate_hz, opts)
-    return fit_spherical(
-        data,
-        method=method,
-        options=opts,
-        joint=joint,
-        parent_sensor=parent_sensor,
-        child_sensor=child_sensor,
+
+    def fit(d: SphericalData) -> SphericalJointCalibration:
+        return fit_spherical(
+            d, method=method, options=opts, joint=joint, parent_sensor=parent_sensor,
+            child_sensor=child_sensor, keep=keep,
+        )  # fmt: skip
+
+    if capped is None:
+        return fit(data)
+    return _fit_in_pair_band(fit, data, capped, bands.cap_hz, keep, opts)
+
+
+def _fit_in_pair_band(
+    fit: Callable[[SphericalData], SphericalJointCalibration],
+    full: SphericalData,
+    band: SphericalData,
+    cap_hz: float | None,
+    keep: ArrayLike | None,
+    options: CalibrationOptions,
+) -> SphericalJointCalibration:
+    """The pair fitted on both bands: the fit :func:`~lowerlimb.calibration.pair_band.choose_band` keeps.
+
+    Only the kept fit's warnings are issued; its ``pair_band`` records the test.
+    """
+    fits, caught = [], []
+    for d in (full, band):
+        with warnings.catch_warnings(record=True) as got:
+            warnings.simplefilter("always")
+            fits.append(fit(d))
+        caught.append(got)
+    uncapped, capped = (np.r_[f.center_in_parent_sensor, f.center_in_child_sensor] for f in fits)
+    choice = choose_band(
+        uncapped,
+        capped,
+        full,
+        band,
+        cap_hz=float(cap_hz if cap_hz is not None else np.nan),
+        margin=options.pair_band_margin,
         keep=keep,
     )
+    i = int(choice.capped)
+    for w in caught[i]:
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return replace(fits[i], pair_band=choice)
 
 
 def estimate_joint_center(

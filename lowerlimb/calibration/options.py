@@ -77,6 +77,16 @@ class CalibrationOptions:
         rigid_band_min_hz: lowest cap, Hz.
         rigid_band_trigger: a sensor is capped only when its adaptive cut-off
             exceeds this multiple of the cap (else its own slow motion limits it).
+        pair_band_test: a two-IMU spherical fit
+            (:func:`~lowerlimb.calibration.joint_center.calibrate_spherical_joint`, the
+            ``estimate_joint_center`` API) is fitted both at its sensors' own cut-offs and,
+            where its rigid band caps them, at the cap, and keeps the cap only where the two
+            fits say the sensors move on their segments (:mod:`~lowerlimb.calibration.pair_band`).
+            ``False``: the own cut-offs alone (before 0.5.14). A leg's joints are always capped.
+        pair_band_margin: the capped fit is kept when its low-band gain exceeds its full-band
+            cost by more than this (both ratios − 1). 0.1: the mechanical rig's rigid trials
+            reach 0.06, the real walk's hips and ankles 0.36–1.5, simulated walks and mixed
+            motions with incoherent tissue forces (``sim_signatures.md``'s ``own 3``) 0.02–3.7.
         shared_joint_cutoff: filter both sensors of a joint at one cut-off, the
             higher of their two (each after the rigid-band cap): the constraint
             compares what both sensors see of the joint, and different filters
@@ -376,6 +386,8 @@ class CalibrationOptions:
     rigid_band_max_rotation: float | None = 4.0
     rigid_band_min_hz: float = 2.0
     rigid_band_trigger: float = 3.0
+    pair_band_test: bool = True
+    pair_band_margin: float = 0.1
     shared_joint_cutoff: bool = True
     angacc_window_s: float = DEFAULT_WINDOW_S
     angacc_polyorder: int = DEFAULT_POLYORDER

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from lowerlimb.calibration.excitation import ExcitationReport
+from lowerlimb.calibration.pair_band import PairBand
 from lowerlimb.conventions import FloatArray
 
 __all__ = ["SphericalJointCalibration", "HingeAxisCalibration", "HingeJointCalibration"]
@@ -83,6 +84,9 @@ class SphericalJointCalibration:
             The clock search compares the joint's acceleration norms at the norm form's
             centres (:func:`~lowerlimb.calibration.clock_sync.estimate_lags`). Not written
             to calibration.json.
+        pair_band: a two-IMU fit's band test (:mod:`~lowerlimb.calibration.pair_band`):
+            whether it kept the pair's rigid-band cap; ``None`` where no cap applied (and
+            in a leg's joints, which are always capped).
     """
 
     joint: str
@@ -102,6 +106,7 @@ class SphericalJointCalibration:
     cutoff_shift: FloatArray = field(default_factory=lambda: np.full(6, np.nan))
     split_half_shift: FloatArray = field(default_factory=lambda: np.full(6, np.nan))
     norm_center_in_parent_sensor: FloatArray | None = None
+    pair_band: PairBand | None = None
 
     @property
     def center_std_in_parent_sensor(self) -> FloatArray:
@@ -160,6 +165,8 @@ class SphericalJointCalibration:
             warnings=list(self.warnings),
             impact_excluded_fraction=float(self.impact_excluded_fraction),
         )
+        if self.pair_band is not None:
+            d["pair_band"] = self.pair_band.to_dict()
         for key, shift in (("cutoff", self.cutoff_shift), ("split_half", self.split_half_shift)):
             for frame, part in (("parent", shift[:3]), ("child", shift[3:6])):
                 if np.all(np.isfinite(part)):
@@ -172,6 +179,7 @@ class SphericalJointCalibration:
     ) -> SphericalJointCalibration:
         """Inverse of :meth:`to_dict` (extras optional)."""
         exc = d.get(key_prefix + "excitation")
+        band = d.get(key_prefix + "pair_band")
         return cls(
             joint=joint or d.get("joint", ""),
             parent_sensor=d["parent_sensor"],
@@ -189,6 +197,7 @@ class SphericalJointCalibration:
             impact_excluded_fraction=float(d.get(key_prefix + "impact_excluded_fraction", 0.0)),
             cutoff_shift=_shift(d, key_prefix, "cutoff"),
             split_half_shift=_shift(d, key_prefix, "split_half"),
+            pair_band=PairBand.from_dict(band) if band else None,
         )
 
 
