@@ -227,10 +227,11 @@ def _pooled(rows: list[dict[str, Any]]) -> str:
     for (source, case), rs in groups.items():
         a, b = np.array([r["after"] for r in rs]), np.array([r["before"] for r in rs])
         tested = [r for r in rs if r["cap_hz"] is not None]
-        gains = " … ".join(f"{cell(f(r['gain'] - r['cost'] for r in tested), '+.2f')}" for f in (min, max))
+        margins = [r["gain"] - r["cost"] for r in tested]
+        gains = f"{min(margins):+.2f} … {max(margins):+.2f}" if margins else "–"
         out.append(
             f"| {source} | {case} | {len(rs)} | {len(tested)} | {sum(r['capped'] for r in rs)} | "
-            f"{gains if tested else '–'} | {np.median(b):.1f} / {np.max(b):.1f} | "
+            f"{gains} | {np.median(b):.1f} / {np.max(b):.1f} | "
             f"{np.median(a):.1f} / {np.max(a):.1f} |"
         )
     return "\n".join(out)

@@ -14,7 +14,7 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
-__version__ = "0.5.13"
+__version__ = "0.5.14"
 
 _EXPORTS = {
     "calibrate_leg": "calibration",
