@@ -22,6 +22,7 @@ import numpy as np
 from ..conventions import SENSORS, SIDES, FloatArray
 from ..errors import InputError, MissingColumnError, TooShortError
 from ..stillness import StillPeriod, detect_still_period
+from .mag_cells import bridged_magnetometer
 from .recording import TWO_LEG_SENSORS
 from .time_axis import TimeAxis
 from .trial import (
@@ -33,6 +34,7 @@ from .trial import (
     column_names,
     has_all_mag,
     header_names,
+    mag_columns,
     on_uniform_clock,
     one_side_prefix,
     read_numbers,
@@ -203,27 +205,26 @@ class BilateralTrial(TimeAxis):
         if "time" not in header:
             raise MissingColumnError("time", header, path, two_legs=True)
         check_unique_columns(header, path)
-        raw = read_numbers(path, header, list(range(len(header))))
+        has_mag = has_all_mag(header, TWO_LEG_SENSORS)
+        signals = ("acc", "gyr", "mag") if has_mag else ("acc", "gyr")
+        names = ["time"] + [n for s in TWO_LEG_SENSORS for g in signals for n in column_names(s, g)]
+        col = {name: i for i, name in enumerate(header)}
+        for n in names:
+            if n not in col:
+                raise MissingColumnError(n, header, path, two_legs=True)
+        raw = read_numbers(path, header, [col[n] for n in names], blank_ok=mag_columns(header))
         if raw.size == 0:
             raise TooShortError(0.0, MIN_DURATION_S)
-        if raw.shape[1] != len(header):
-            raise InputError(
-                f"{path} has {raw.shape[1]} columns of data but {len(header)} header names; fix the header"
-            )
-        col = {name: i for i, name in enumerate(header)}
+        k = {n: i for i, n in enumerate(names)}
 
         def block(sensor: str, signal: str) -> FloatArray:
-            names = column_names(sensor, signal)
-            for n in names:
-                if n not in col:
-                    raise MissingColumnError(n, header, path, two_legs=True)
-            return np.ascontiguousarray(raw[:, [col[n] for n in names]])
+            return np.ascontiguousarray(raw[:, [k[n] for n in column_names(sensor, signal)]])
 
         acc = {s: block(s, "acc") for s in TWO_LEG_SENSORS}
         gyr = {s: block(s, "gyr") for s in TWO_LEG_SENSORS}
-        has_mag = has_all_mag(header, TWO_LEG_SENSORS)
         mag = {s: block(s, "mag") for s in TWO_LEG_SENSORS} if has_mag else None
-        time_s, acc, gyr, mag = on_uniform_clock(raw[:, col["time"]].copy(), acc, gyr, mag)
+        mag = bridged_magnetometer(raw[:, 0], mag)
+        time_s, acc, gyr, mag = on_uniform_clock(raw[:, 0].copy(), acc, gyr, mag)
         trial = cls(time_s, acc, gyr, mag, source=path)
         trial.validate()
         return trial

@@ -11,12 +11,14 @@ XSENS_MAG_FIELD_UT = 50.0
 
 @dataclass(frozen=True)
 class ImportParams:
-    """Thresholds of :func:`~lowerlimb.io.read_xsens` and :func:`~lowerlimb.io.read_mapped_csv`.
+    """Thresholds of :func:`~lowerlimb.io.read_xsens`, :func:`~lowerlimb.io.read_mapped_csv`, trial CSVs.
 
     Attributes:
         max_gap_s: longest run of missing packets (Xsens) or longest interval
             between two source samples (mapped CSV with ``resample_hz``) that
-            is bridged by linear interpolation, s. A longer gap is refused.
+            is bridged by linear interpolation, s. A longer gap is refused. Also the
+            longest run of empty magnetometer cells a trial CSV bridges; beyond it the
+            magnetometer is not used (:mod:`~lowerlimb.io.mag_cells`).
         warn_fill_fraction: warn when more than this fraction of the samples of
             the trial were filled by interpolation.
         rate_tolerance: largest relative difference between the update rates of

@@ -13,7 +13,7 @@ from __future__ import annotations
 import csv
 import os
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -38,6 +38,7 @@ from ..errors import (
 )
 from ..stillness import StillPeriod, detect_still_period
 from .bounds import INPUT_BOUNDS
+from .mag_cells import bridged_magnetometer
 from .text_file import BINARY_MAGIC
 from .time_axis import TimeAxis, guess_time_unit, require_increasing
 from .uneven_clock import CLOCK_PARAMS, refuse_batched_stamps, to_uniform_clock
@@ -136,6 +137,11 @@ def _median_norm(x: FloatArray) -> float:
 def column_names(sensor: str, signal: str) -> list[str]:
     """The three CSV column names of one signal, e.g. ``thigh_gyr_x..z``."""
     return [f"{sensor}_{signal}_{a}" for a in "xyz"]
+
+
+def mag_columns(header: Sequence[str]) -> set[int]:
+    """Indices of a header's magnetometer columns, whose cells may be empty (:mod:`.mag_cells`)."""
+    return {i for i, h in enumerate(header) if "_mag_" in h}
 
 
 def has_all_mag(header: list[str], sensors: tuple[str, ...] | list[str]) -> bool:
@@ -412,7 +418,7 @@ class ImuTrial(TimeAxis):
         for n in names:
             if n not in col:
                 raise MissingColumnError(n, header, path)
-        raw = read_numbers(path, header, [col[n] for n in names])
+        raw = read_numbers(path, header, [col[n] for n in names], blank_ok=mag_columns(header))
         if raw.shape[0] == 0:
             raise TooShortError(0.0, MIN_DURATION_S)
         k = {n: i for i, n in enumerate(names)}
@@ -423,6 +429,7 @@ class ImuTrial(TimeAxis):
         acc = {s: block(s, "acc") for s in SENSORS}
         gyr = {s: block(s, "gyr") for s in SENSORS}
         mag = {s: block(s, "mag") for s in SENSORS} if has_mag else None
+        mag = bridged_magnetometer(raw[:, 0], mag)
         time_s, acc, gyr, mag = on_uniform_clock(raw[:, 0].copy(), acc, gyr, mag)
         trial = cls(time_s, acc, gyr, mag, side, source=path)
         trial.validate()
@@ -562,12 +569,15 @@ def check_unique_columns(header: list[str], path: str) -> None:
         )
 
 
-def read_numbers(path: str, header: list[str], usecols: list[int]) -> FloatArray:
+def read_numbers(
+    path: str, header: list[str], usecols: list[int], blank_ok: Collection[int] = ()
+) -> FloatArray:
     """(N, len(usecols)) numbers of the data rows; a bad cell is named by row and column.
 
     numpy's C reader first; a file it refuses is read again cell by cell, which accepts
     quoted numbers and names the first empty or non-numeric cell, or a row of the wrong
-    length.
+    length. Empty cells of the columns ``blank_ok`` (indices into ``header``) read as NaN,
+    and only those: a NaN written out in such a column is refused.
 
     Raises:
         InputError: naming the bad cell or row.
@@ -575,9 +585,12 @@ def read_numbers(path: str, header: list[str], usecols: list[int]) -> FloatArray
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return np.loadtxt(
+            values = np.loadtxt(
                 path, delimiter=",", skiprows=1, usecols=usecols, dtype=float, ndmin=2, encoding="utf-8-sig"
             )
+        optional = [k for k, c in enumerate(usecols) if c in blank_ok]
+        if not np.isnan(values[:, optional]).any():
+            return values  # else the slow path names the written-out NaN
     except UnicodeDecodeError as e:
         raise InputError(
             f"{path} is not UTF-8 text (byte {e.object[e.start]:#04x}); save the trial CSV as UTF-8"
@@ -598,7 +611,7 @@ def read_numbers(path: str, header: list[str], usecols: list[int]) -> FloatArray
                         f"{path} data row {row_no} has {len(row)} values but the header names "
                         f"{len(header)} columns; fix the CSV"
                     )
-                rows.append([_cell_value(row[c], header[c], row_no) for c in usecols])
+                rows.append([_cell_value(row[c], header[c], row_no, c in blank_ok) for c in usecols])
         except csv.Error as e:
             raise unreadable_csv(path, e) from None
     return np.asarray(rows, dtype=float).reshape(-1, len(usecols))
@@ -609,13 +622,22 @@ def unreadable_csv(path: str, error: csv.Error) -> InputError:
     return InputError(f"{path} is not a readable CSV ({error}); export the recording as CSV text again")
 
 
-def _cell_value(raw: str, column: str, row_no: int) -> float:
-    """One cell as a number, or an :class:`InputError` naming why it is not one."""
+def _cell_value(raw: str, column: str, row_no: int, blank_ok: bool = False) -> float:
+    """One cell as a number (NaN for an empty cell where ``blank_ok``), or an :class:`InputError`."""
     cell = raw.strip()
     try:
-        return float(cell)
+        value = float(cell)
     except ValueError:
         pass
+    else:
+        if blank_ok and np.isnan(value):
+            raise InputError(
+                f"column '{column}' holds {cell!r} at data row {row_no}; leave a magnetometer cell "
+                f"empty where it has no sample, or drop the magnetometer columns"
+            )
+        return value
+    if not cell and blank_ok:
+        return float("nan")
     if not cell:
         raise InputError(
             f"column '{column}' is empty at data row {row_no}; fill or cut the gap before calibrating"
