@@ -587,3 +587,38 @@ def test_cli_import_gap_refused_names_max_gap_and_max_gap_bridges_it(tmp_path, c
     assert "12 samples filled" in capsys.readouterr().out
     assert main([*argv, "--out", str(out), "--force", "--max-gap", "0"]) == 2
     assert "must be positive" in capsys.readouterr().err
+
+
+def test_mapped_csv_bridges_a_half_rate_magnetometer_or_drops_an_empty_one(tmp_path):
+    """Empty magnetometer cells (``lowerlimb.io.mag_cells``), with and without resampling."""
+    from lowerlimb.io.mag_cells import MagnetometerCellsWarning
+
+    t_ms = np.arange(0, 3000, 10.0)
+    _vendor_csv(tmp_path / "v.csv", t_ms)
+    full = read_mapped_csv(tmp_path / "v.csv", _mapping())
+    lines = (tmp_path / "v.csv").read_text().splitlines()
+    header = lines[0].split(";")
+    mag = [i for i, h in enumerate(header) if ".m" in h]
+
+    def emptied(rows: range, cols: list[int]) -> list[str]:
+        out = list(lines)
+        for r in rows:
+            cells = out[r].split(";")
+            for c in cols:
+                cells[c] = ""
+            out[r] = ";".join(cells)
+        return out
+
+    (tmp_path / "half.csv").write_text("\n".join(emptied(range(2, len(lines), 2), mag)) + "\n")
+    for resample in (None, 100):
+        with pytest.warns(MagnetometerCellsWarning, match="interpolated"):
+            half = read_mapped_csv(tmp_path / "half.csv", _mapping(resample_hz=resample))
+        assert half.mag is not None and full.mag is not None
+        # linear in time, so interpolated exactly; the last row, empty, takes its neighbour's value
+        np.testing.assert_allclose(half.mag["shank"][:-1], full.mag["shank"][:-1], atol=1e-6)
+    foot = [i for i in mag if header[i].startswith("foot.")]
+    (tmp_path / "nofoot.csv").write_text("\n".join(emptied(range(1, len(lines)), foot)) + "\n")
+    with pytest.warns(MagnetometerCellsWarning, match="foot magnetometer columns are empty"):
+        trial = read_mapped_csv(tmp_path / "nofoot.csv", _mapping())
+    assert trial.mag is None
+    np.testing.assert_array_equal(trial.gyr["foot"], full.gyr["foot"])

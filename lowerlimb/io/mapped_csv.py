@@ -39,6 +39,7 @@ from lowerlimb.io.trial import MIN_DURATION_S, ImuTrial, unreadable_csv
 from .bounds import INPUT_BOUNDS
 from .csv_mapping import CsvMapping
 from .errors import ColumnNotFoundError, PacketGapError
+from .mag_cells import bridged_magnetometer
 from .params import ImportParams
 from .recording import ImportedRecording
 from .text_file import read_text
@@ -216,7 +217,8 @@ def load_mapped_csv(
         raise NonFiniteValueError(m.time_column, int(bad_t[0]) + 1)
     t = t - t[0]
     check_time_unit(t, m)
-    data = raw[:, 1:]
+    layout = [(sensor, q) for sensor, qs in m.sensors.items() for q in QUANTITY_UNITS if q in qs]
+    data, layout = _bridged_mag(t, raw[:, 1:], layout, params)
     if m.resample_hz is not None:
         t, data = resample_uniform(t, data, m.resample_hz, params.max_gap_s, names[1:])
     else:  # uneven steps onto the recorder's own constant clock, as a trial CSV's
@@ -225,13 +227,9 @@ def load_mapped_csv(
         except PacketGapError as e:
             raise PacketGapError("the recording", e.start_s, e.length_s, e.limit_s, importer=True) from None
     signals: dict[str, dict[str, FloatArray]] = {q: {} for q in QUANTITY_UNITS}
-    col = 0
-    for sensor, quantities in m.sensors.items():
-        for q in QUANTITY_UNITS:
-            if q in quantities:
-                factor = QUANTITY_UNITS[q][quantities[q].unit]
-                signals[q][sensor] = np.ascontiguousarray(data[:, col : col + 3] * factor)
-                col += 3
+    for k, (sensor, q) in enumerate(layout):
+        factor = QUANTITY_UNITS[q][m.sensors[sensor][q].unit]
+        signals[q][sensor] = np.ascontiguousarray(data[:, 3 * k : 3 * k + 3] * factor)
     return ImportedRecording(
         time_s=t,
         acc=signals["acc"],
@@ -240,6 +238,27 @@ def load_mapped_csv(
         side=None if len(m.sensors) == 7 else (m.side or "left"),
         source=path,
     )
+
+
+def _bridged_mag(
+    time_s: FloatArray, data: FloatArray, layout: list[tuple[str, str]], params: ImportParams
+) -> tuple[FloatArray, list[tuple[str, str]]]:
+    """The magnetometer's empty cells bridged, or its columns dropped (:mod:`~lowerlimb.io.mag_cells`).
+
+    ``data``: (N, 3·len(layout)), a block of three columns per ``(sensor, quantity)`` of
+    ``layout``. Returns the data and the layout left.
+    """
+    blocks = {sensor: k for k, (sensor, q) in enumerate(layout) if q == "mag"}
+    if not blocks:
+        return data, layout
+    mag = bridged_magnetometer(time_s, {s: data[:, 3 * k : 3 * k + 3] for s, k in blocks.items()}, params)
+    if mag is not None:
+        out = data.copy()
+        for s, k in blocks.items():
+            out[:, 3 * k : 3 * k + 3] = mag[s]
+        return out, layout
+    kept = [k for k, (_, q) in enumerate(layout) if q != "mag"]
+    return data[:, [3 * k + j for k in kept for j in range(3)]], [layout[k] for k in kept]
 
 
 def read_mapped_csv(
