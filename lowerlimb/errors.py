@@ -51,8 +51,12 @@ class MissingColumnError(InputError):
             else "pelvis, thigh, shank, foot"
         )
         like = _column_like(column, self.available)
-        unit = ", in s" if column == "time" else ""
-        hint = f" (the file has {like!r}: rename it {column!r}{unit})" if like else ""
+        unit = _OWN_UNIT.get("time" if column == "time" else column.rsplit("_", 2)[-2], "")
+        if like and _annotated_name(like) == column:
+            hint = f" (the file has {like!r}: give it in {unit} as {column!r})"
+        else:
+            hint = f" (the file has {like!r}: rename it {column!r}{', in s' if column == 'time' else ''})"
+        hint = hint if like else ""
         super().__init__(
             f"missing column '{column}'{where}{hint}; a trial needs time and "
             f"<sensor>_acc_x..z, <sensor>_gyr_x..z for {sensors} "
@@ -64,9 +68,21 @@ class MissingColumnError(InputError):
 _TRIAL_COLUMN = re.compile(r"time|((left|right)_)?(pelvis|thigh|shank|foot)_(acc|gyr|mag)_[xyz]")
 
 
+#: The trial CSV's own unit of each quantity (docs/formats.md), as the errors name it.
+_OWN_UNIT = {"time": "s", "acc": "m/s²", "gyr": "rad/s", "mag": "µT"}
+
+
+def _annotated_name(header_cell: str) -> str:
+    """A header cell without a trailing ``[unit]`` or ``(unit)`` (``thigh_acc_x [g]`` → ``thigh_acc_x``)."""
+    return re.split(r"\s*[\[(]", header_cell, maxsplit=1)[0]
+
+
 def _column_like(column: str, available: Sequence[str]) -> str | None:
     """The file's column that is most likely ``column`` misnamed (``time_s``, ``thigh_accel_x``), or None."""
     others = [a for a in available if a and not _TRIAL_COLUMN.fullmatch(a)]
+    annotated = [a for a in others if a != column and _annotated_name(a) == column]
+    if annotated:
+        return annotated[0]
     if column == "time":
         named = [a for a in others if a in ("t", "timestamp") or a.startswith("time")]
         return named[0] if named else None

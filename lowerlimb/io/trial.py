@@ -38,6 +38,7 @@ from ..errors import (
 )
 from ..stillness import StillPeriod, detect_still_period
 from .bounds import INPUT_BOUNDS
+from .header_units import without_own_unit
 from .mag_cells import bridged_magnetometer
 from .text_file import BINARY_MAGIC
 from .time_axis import TimeAxis, guess_time_unit, require_increasing
@@ -551,7 +552,7 @@ def _read_header(path: str) -> list[str]:
 
 def header_names(cells: Sequence[str]) -> list[str]:
     """A trial CSV's header cells as column names: stripped and in lower case (``Time`` is ``time``)."""
-    return [c.strip().lower() for c in cells]
+    return [without_own_unit(c.strip().lower()) for c in cells]
 
 
 def check_unique_columns(header: list[str], path: str) -> None:
