@@ -386,46 +386,17 @@ def prepare_pair(
 ) -> tuple[PreparedSignals, SphericalData]:
     """Check the four signals of a sensor pair and prepare them (sensors ``"p"`` and ``"c"``).
 
-    A pair recorded below ``options.min_fit_rate_hz`` is interpolated first
-    (:mod:`~lowerlimb.upsample`); the prepared signals carry the new rate.
-
     ``rigid_band`` caps the cut-offs at the pair's rigid band (off by default:
     the coherence of the accelerometer norms is a proxy made for the leg's
     gait-like motion, checked there; an arbitrary pair's motion can make the
-    norms incoherent although the chain is rigid).
+    norms incoherent although the chain is rigid). Arguments and errors as
+    :func:`prepare_pair_bands`.
 
     Returns:
         The prepared signals (``rate_hz`` checked) and the pair's :class:`SphericalData`.
-
-    Raises:
-        ShapeError: an array is not (N, 3) or lengths differ.
-        NonFiniteValueError: NaN or inf in a signal.
-        UnitError: a gyro that looks like deg/s.
-        InputError: non-positive rate or too few samples.
     """
-    acc, gyr, rate = _checked_pair(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, options)
-    sig = prepare_signals(acc, gyr, rate, options)
-    return sig, joint_signals(acc, gyr, sig, "p", "c", options, own_band=rigid_band)
-
-
-def _checked_pair(
-    acc_parent: ArrayLike,
-    gyr_parent: ArrayLike,
-    acc_child: ArrayLike,
-    gyr_child: ArrayLike,
-    rate_hz: float,
-    options: CalibrationOptions,
-) -> tuple[dict[str, FloatArray], dict[str, FloatArray], float]:
-    """A pair's four signals checked and upsampled as :func:`prepare_pair` says: ``(acc, gyr, rate)``."""
-    rate = check_rate(rate_hz)
-    ap = check_signal(acc_parent, "acc_parent", "m/s²")
-    n = ap.shape[0]
-    wp = check_signal(gyr_parent, "gyr_parent", "rad/s", n)
-    ac = check_signal(acc_child, "acc_child", "m/s²", n)
-    wc = check_signal(gyr_child, "gyr_child", "rad/s", n)
-    check_duration(n, rate, options)
-    k = upsample_factor(rate, options.min_fit_rate_hz)
-    return upsampled({"p": ap, "c": ac}, k), upsampled({"p": wp, "c": wc}, k), rate * k
+    b = prepare_pair_bands(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, options, band=rigid_band)
+    return b.sig, b.full if b.capped is None else b.capped
 
 
 @dataclass(frozen=True)
@@ -453,8 +424,22 @@ def prepare_pair_bands(
     gyr_child: ArrayLike,
     rate_hz: float,
     options: CalibrationOptions,
+    *,
+    band: bool = True,
 ) -> PairBands:
-    """:func:`prepare_pair` both without and with the pair's rigid-band cap (arguments as there).
+    """Check the four signals of a sensor pair; prepare them without and (``band``) with the rigid-band cap.
+
+    A pair recorded below ``options.min_fit_rate_hz`` is interpolated first
+    (:mod:`~lowerlimb.upsample`); the prepared signals carry the new rate.
+
+    Args:
+        acc_parent: (N, 3) parent accelerometer, m/s².
+        gyr_parent: (N, 3) parent gyro, rad/s.
+        acc_child: (N, 3) child accelerometer, m/s².
+        gyr_child: (N, 3) child gyro, rad/s.
+        rate_hz: sampling rate, Hz.
+        options: calibration options.
+        band: also seek the pair's rigid band and prepare the pair at its cap.
 
     Raises:
         ShapeError: an array is not (N, 3) or lengths differ.
@@ -462,10 +447,20 @@ def prepare_pair_bands(
         UnitError: a gyro that looks like deg/s.
         InputError: non-positive rate or too few samples.
     """
-    acc, gyr, rate = _checked_pair(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, options)
-    sig = prepare_signals(acc, gyr, rate, options)
+    rate = check_rate(rate_hz)
+    ap = check_signal(acc_parent, "acc_parent", "m/s²")
+    n = ap.shape[0]
+    wp = check_signal(gyr_parent, "gyr_parent", "rad/s", n)
+    ac = check_signal(acc_child, "acc_child", "m/s²", n)
+    wc = check_signal(gyr_child, "gyr_child", "rad/s", n)
+    check_duration(n, rate, options)
+    k = upsample_factor(rate, options.min_fit_rate_hz)
+    acc, gyr = upsampled({"p": ap, "c": ac}, k), upsampled({"p": wp, "c": wc}, k)
+    sig = prepare_signals(acc, gyr, rate * k, options)
     full = joint_signals(acc, gyr, sig, "p", "c", options, own_band=False)
+    if not band:
+        return PairBands(sig, full, None, None)
     caps: dict[str, float | None] = {}
     capped: set[str] = set()
-    band = joint_signals(acc, gyr, sig, "p", "c", options, caps, capped=capped)
-    return PairBands(sig, full, band if capped else None, caps["p-c"])
+    banded = joint_signals(acc, gyr, sig, "p", "c", options, caps, capped=capped)
+    return PairBands(sig, full, banded if capped else None, caps["p-c"])
