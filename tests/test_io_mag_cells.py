@@ -123,9 +123,9 @@ def test_a_written_out_nan_in_the_magnetometer_is_still_refused(one_leg, tmp_pat
     bad = _write(tmp_path / "nan.csv", header, rows)
     assert main(["calibrate", str(bad), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "'pelvis_mag_y' holds 'NaN' at data row 100" in err
+    assert err.count("\n") == 1 and "'pelvis_mag_y' has a NaN value ('NaN') at data row 100" in err
     assert not (tmp_path / "out").exists()
     rows[99][c] = ""
     rows[100][header.index("thigh_mag_x")] = "nan"  # beside an empty cell: the slow path names it
-    with pytest.raises(InputError, match="'thigh_mag_x' holds 'nan' at data row 101"):
+    with pytest.raises(InputError, match=r"'thigh_mag_x' has a NaN value \('nan'\) at data row 101"):
         ImuTrial.from_csv(_write(tmp_path / "nan2.csv", header, rows))

@@ -633,8 +633,8 @@ def _cell_value(raw: str, column: str, row_no: int, blank_ok: bool = False) -> f
     else:
         if blank_ok and np.isnan(value):
             raise InputError(
-                f"column '{column}' holds {cell!r} at data row {row_no}; leave a magnetometer cell "
-                f"empty where it has no sample, or drop the magnetometer columns"
+                f"column '{column}' has a NaN value ({cell!r}) at data row {row_no}; leave a "
+                f"magnetometer cell empty where it has no sample, or drop the magnetometer columns"
             )
         return value
     if not cell and blank_ok:
