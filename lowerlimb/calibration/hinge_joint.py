@@ -12,13 +12,18 @@ their distance to the axis line.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
+from dataclasses import replace
 
+import numpy as np
 from numpy.typing import ArrayLike
 
-from lowerlimb.calibration._prepare import prepare_pair
+from lowerlimb.calibration._prepare import prepare_pair_bands
+from lowerlimb.calibration.excitation import issue_warnings
 from lowerlimb.calibration.hinge_axis import acc_sign_correlation, fit_hinge_axis
 from lowerlimb.calibration.joint_center import fit_spherical
+from lowerlimb.calibration.knee_line import standing_axis_mismatch
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import HingeJointCalibration
 from lowerlimb.constraints.spherical import SphericalData
@@ -130,6 +135,14 @@ def calibrate_hinge_joint(
     A pair recorded below ``options.min_fit_rate_hz`` (100 Hz) is fitted on its signals
     interpolated to a multiple of the rate (:mod:`~lowerlimb.upsample`).
 
+    With ``options.pair_band_test`` and a still start, a pair whose rigid band caps its
+    cut-offs and whose axis, seen from the two sensors, differs in elevation at rest by more
+    than ``options.fit_band_max_mismatch_deg`` (6°; a rigid hinge keeps them equal, as the leg
+    calibration's fit band reads it) is fitted again below the cap, with a warning: the
+    sensors move on their segments (the real walk's knees: 17 / 22°, their centres 286 / 155 mm
+    from the leg calibration's axis line in the thigh sensor → 7 / 0 mm;
+    ``benchmarks/results/pair_api.md``).
+
     Args:
         acc_parent: (N, 3) parent accelerometer (specific force), parent sensor frame, m/s².
         gyr_parent: (N, 3) parent gyroscope, parent sensor frame, rad/s.
@@ -156,14 +169,35 @@ def calibrate_hinge_joint(
     """
     opts = options or CalibrationOptions()
     check_method(method)
-    sig, data = prepare_pair(acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, opts, rigid_band=False)
-    return fit_hinge_joint(
-        data,
-        rate_hz=sig.rate_hz,
-        method=method,
-        options=opts,
-        n_still=sig.n_still,
-        joint=joint,
-        parent_sensor=parent_sensor,
-        child_sensor=child_sensor,
+    bands = prepare_pair_bands(
+        acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, opts, band=opts.pair_band_test
     )
+    n = bands.sig.n_still
+
+    def fit(data: SphericalData) -> HingeJointCalibration:
+        return fit_hinge_joint(
+            data, rate_hz=bands.sig.rate_hz, method=method, options=opts, n_still=n, joint=joint,
+            parent_sensor=parent_sensor, child_sensor=child_sensor,
+        )  # fmt: skip
+
+    if bands.capped is None or n == 0:
+        return fit(bands.full)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        hinge = fit(bands.full)
+    up = _still_gravity(bands.full, n)
+    assert up is not None  # n > 0
+    mismatch = np.degrees(standing_axis_mismatch(hinge, *up))
+    if abs(mismatch) <= opts.fit_band_max_mismatch_deg:
+        for w in caught:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        return hinge
+    capped = fit(bands.capped)
+    message = (
+        f"{joint}: the hinge axis seen from the {parent_sensor} and from the {child_sensor} sensor differs "
+        f"by {abs(mismatch):.0f}° in elevation at rest (a rigid hinge keeps them equal): the sensors move "
+        f"on their segments, so the pair was fitted below {bands.cap_hz:.1f} Hz, where their "
+        f"accelerometers stay coherent"
+    )
+    issue_warnings([message], stacklevel=2)
+    return replace(capped, center=replace(capped.center, warnings=[*capped.center.warnings, message]))
