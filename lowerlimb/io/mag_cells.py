@@ -20,20 +20,13 @@ import numpy as np
 
 from ..conventions import FloatArray
 from .params import ImportParams
+from .saturation import longest_run
 
 __all__ = ["MagnetometerCellsWarning", "bridged_magnetometer"]
 
 
 class MagnetometerCellsWarning(UserWarning):
     """The trial's magnetometer columns have empty cells: interpolated, or not used."""
-
-
-def _longest_run(missing: np.ndarray) -> int:
-    """Length of the longest run of True in a (N,) boolean array."""
-    if not missing.any():
-        return 0
-    edges = np.diff(np.r_[0, missing.astype(np.int8), 0])
-    return int(np.max(np.flatnonzero(edges == -1) - np.flatnonzero(edges == 1)))
 
 
 def _interpolated(time_s: FloatArray, x: FloatArray) -> FloatArray:
@@ -74,7 +67,7 @@ def bridged_magnetometer(
         reason = None
         if missing.all():
             reason = f"the {sensor} magnetometer columns are empty"
-        elif (gap_s := _longest_run(missing) * step) > p.max_gap_s:
+        elif (gap_s := longest_run(missing) * step) > p.max_gap_s:
             reason = (
                 f"the {sensor} magnetometer has a run of empty cells {gap_s:.3g} s long (bridged up to "
                 f"{p.max_gap_s:g} s)"

@@ -51,6 +51,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..conventions import GRAVITY_MPS2, FloatArray
 
 __all__ = [
+    "longest_run",
     "SATURATION_PARAMS",
     "Saturation",
     "SaturationParams",
@@ -187,7 +188,7 @@ class _AxisSign:
     plateau: bool  # held at the limit, cut if the same limit is reached often enough elsewhere
 
 
-def _longest_run(flags: NDArray[np.bool_]) -> int:
+def longest_run(flags: NDArray[np.bool_]) -> int:
     """Length of the longest run of ``True``."""
     if not flags.any():
         return 0
@@ -215,7 +216,7 @@ def _axis_sign(x: FloatArray, params: SaturationParams) -> tuple[float, NDArray[
     alone = n_exact >= params.min_samples and _runs(exact) >= params.min_episodes
     if not alone and n_top >= params.min_samples_smeared:
         alone = _runs(top & np.roll(top, 1) & (np.arange(x.size) > 0)) >= params.min_episodes
-    plateau = n_exact >= params.min_samples or _longest_run(top) >= params.min_held_samples
+    plateau = n_exact >= params.min_samples or longest_run(top) >= params.min_held_samples
     return m, top, alone and runs >= params.min_episodes, plateau
 
 
