@@ -37,7 +37,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 import solvers
-from lowerlimb.calibration._prepare import check_rate, prepare_pair, prepare_pair_bands
+from lowerlimb.calibration._prepare import check_rate, prepare_pair_bands
 from lowerlimb.calibration._rotation import low_rotation_messages
 from lowerlimb.calibration._solve import LsqProblem, solve_global, solve_local, subsample_step
 from lowerlimb.calibration.excitation import correlation_time, issue_warnings, jacobian_report
@@ -487,16 +487,13 @@ def calibrate_spherical_joint(
     """
     opts = options or CalibrationOptions()
     check_method(method)
-    signals = (acc_parent, gyr_parent, acc_child, gyr_child)
-    if opts.pair_band_test:
-        bands = prepare_pair_bands(*signals, rate_hz, opts)
-        sig, data, capped = bands.sig, bands.full, bands.capped
-    else:
-        sig, data = prepare_pair(*signals, rate_hz, opts)
-        capped = None
+    bands = prepare_pair_bands(
+        acc_parent, gyr_parent, acc_child, gyr_child, rate_hz, opts, band=opts.pair_band_test
+    )
+    sig, data, capped = bands.sig, bands.full, bands.capped
     keep = None
     if opts.impact_exclusion:
-        k = upsample_factor(check_rate(rate_hz), opts.min_fit_rate_hz)  # as prepare_pair did
+        k = upsample_factor(check_rate(rate_hz), opts.min_fit_rate_hz)  # as prepare_pair_bands did
         raw = upsampled({"p": np.asarray(acc_parent, float), "c": np.asarray(acc_child, float)}, k)
         keep = impact_keep_mask((raw["p"], raw["c"]), sig.rate_hz, opts)
 
