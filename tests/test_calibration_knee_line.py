@@ -15,6 +15,7 @@ from lowerlimb.calibration.knee_line import (
     KneeLine,
     axis_mismatch_message,
     knee_line_offset,
+    moving_axis_mismatch,
     standing_axis_mismatch,
     with_knee_line,
 )
@@ -108,6 +109,30 @@ def test_standing_axis_mismatch_reads_the_elevations() -> None:
     jc[2] = k.axis_in_parent_sensor[2]
     k2 = _knee([0, 0, 0], [0, 0, 0], jp=k.axis_in_parent_sensor, jc=jc)
     assert standing_axis_mismatch(k2, up, up_c) == pytest.approx(0.0, abs=1e-12)
+
+
+def test_moving_axis_mismatch_reads_the_standing_one_over_a_motion() -> None:
+    """A hinge turning the shank about its axis keeps the elevation: the median reads the tilt."""
+    from scipy.spatial.transform import Rotation
+
+    rate = 100.0
+    q = 0.6 * np.sin(2 * np.pi * 0.9 * np.arange(3000) / rate) - 0.6  # knee flexion, rad
+    up = np.array([0.1, 0.98, 0.17]) / np.linalg.norm([0.1, 0.98, 0.17])
+    j = np.array([0.3, 0.2, 1.0]) / np.linalg.norm([0.3, 0.2, 1.0])
+    acc_thigh = np.tile(9.81 * up, (q.size, 1))
+    acc_shank = Rotation.from_rotvec(-q[:, None] * j).apply(9.81 * up)  # gravity in the turning shank
+    k = _knee([0, 0, 0], [0, 0, 0], jp=j, jc=j)
+    assert moving_axis_mismatch(k, acc_thigh, acc_shank, rate, 1.0) == pytest.approx(0.0, abs=1e-6)
+    tilted = Rotation.from_rotvec(np.radians(12.0) * np.cross(j, up) / np.linalg.norm(np.cross(j, up))).apply(
+        j
+    )
+    k2 = _knee([0, 0, 0], [0, 0, 0], jp=tilted, jc=j)
+    expected = np.arcsin(tilted @ up) - np.arcsin(j @ up)
+    assert abs(expected) > np.radians(10.0), "the tilt must show in the elevation"
+    assert moving_axis_mismatch(k2, acc_thigh, acc_shank, rate, 1.0) == pytest.approx(expected, abs=1e-6)
+    assert moving_axis_mismatch(k2, acc_thigh, acc_shank, rate, 1.0) == pytest.approx(
+        standing_axis_mismatch(k2, acc_thigh[0], acc_shank[0]), abs=1e-6
+    )
 
 
 def test_a_knee_without_its_spread_leaves_v_to_the_prior() -> None:

@@ -121,13 +121,30 @@ def test_a_rigid_hinge_keeps_its_own_cut_offs():
     assert _line_mm(h.center_in_parent_sensor, p.center_parent, p.axis_parent) < 3.0
 
 
+def test_a_rigid_hinge_without_a_still_start_keeps_its_own_cut_offs():
+    """Without a still start the axes' elevations agree over the motion: no refit."""
+    from lowerlimb.calibration import calibrate_hinge_joint
+
+    p = rigid_pair("hinge", seed=0, duration_s=30.0, gyro_noise=0.01, acc_noise=0.05)
+    args = (p.acc_parent, p.gyr_parent, p.acc_child, p.gyr_child)
+    bands = prepare_pair_bands(*args, p.rate_hz, CalibrationOptions())
+    assert bands.capped is not None and bands.sig.n_still == 0, "the motion test must be reached"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        h = calibrate_hinge_joint(*args, rate_hz=p.rate_hz)
+    assert not any("move on their segments" in str(w.message) for w in caught)
+    assert _line_mm(h.center_in_parent_sensor, p.center_parent, p.axis_parent) < 3.0
+
+
 @pytest.mark.data
 @pytest.mark.skipif(
     DATA is None or not (DATA / "gait" / "rawimu").is_dir(), reason="real walk (gait/rawimu) not found"
 )
 @pytest.mark.parametrize("side", ["left", "right"])
-def test_the_real_walks_knee_through_the_hinge_api_agrees_with_the_leg(side):
-    """Its axis seen from thigh and shank differs by 17 / 22° at rest: fitted below the cap.
+@pytest.mark.parametrize("still_start", [True, False])
+def test_the_real_walks_knee_through_the_hinge_api_agrees_with_the_leg(side, still_start):
+    """Its axis seen from thigh and shank differs by 17 / 22° at rest (and over the walk without
+    the standing start): fitted below the cap.
 
     Without it the centre lay 286 / 155 mm from the leg calibration's axis line in the thigh sensor.
     """
@@ -135,13 +152,14 @@ def test_the_real_walks_knee_through_the_hinge_api_agrees_with_the_leg(side):
 
     assert DATA is not None
     t = ll.read_xsens(DATA / "gait" / "rawimu", real_walk_leg_mapping(side), side=side)
+    start = 0 if still_start else 1100  # walking has begun at frame 1120
+    pair = [x[start:] for x in (t.acc["thigh"], t.gyr["thigh"], t.acc["shank"], t.gyr["shank"])]
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        h = calibrate_hinge_joint(
-            t.acc["thigh"], t.gyr["thigh"], t.acc["shank"], t.gyr["shank"], rate_hz=t.rate_hz
-        )
+        h = calibrate_hinge_joint(*pair, rate_hz=t.rate_hz)
         knee = calibrate_leg(t).knee
-    assert any("move on their segments" in str(w.message) for w in caught)
+    where = "at rest" if still_start else "over the motion"
+    assert any("move on their segments" in str(w.message) and where in str(w.message) for w in caught)
     assert any("move on their segments" in m for m in h.center.warnings)
     for frame in ("parent", "child"):
         gap = _line_mm(

@@ -23,7 +23,7 @@ from lowerlimb.calibration._prepare import prepare_pair_bands
 from lowerlimb.calibration.excitation import issue_warnings
 from lowerlimb.calibration.hinge_axis import acc_sign_correlation, fit_hinge_axis
 from lowerlimb.calibration.joint_center import fit_spherical
-from lowerlimb.calibration.knee_line import standing_axis_mismatch
+from lowerlimb.calibration.knee_line import moving_axis_mismatch, standing_axis_mismatch
 from lowerlimb.calibration.options import CalibrationOptions, check_method
 from lowerlimb.calibration.results import HingeJointCalibration
 from lowerlimb.constraints.spherical import SphericalData
@@ -117,6 +117,28 @@ def below_parent_above_child(data: SphericalData, n_still: int) -> Callable[[Flo
     return accept
 
 
+def _axis_mismatch_deg(
+    hinge: HingeJointCalibration,
+    data: SphericalData,
+    n_still: int,
+    rate_hz: float,
+    options: CalibrationOptions,
+) -> tuple[float, str]:
+    """The axis's elevation mismatch between the two sensors, deg, and where it was read.
+
+    At rest over the still start (:func:`~lowerlimb.calibration.knee_line.standing_axis_mismatch`);
+    without one, its median over the motion
+    (:func:`~lowerlimb.calibration.knee_line.moving_axis_mismatch`).
+    """
+    up = _still_gravity(data, n_still)
+    if up is not None:
+        return float(np.degrees(standing_axis_mismatch(hinge, *up))), "at rest"
+    rad = moving_axis_mismatch(
+        hinge, data.acc_parent, data.acc_child, rate_hz, options.moving_mismatch_lowpass_hz
+    )
+    return float(np.degrees(rad)), "over the motion (median; no still start)"
+
+
 def calibrate_hinge_joint(
     acc_parent: ArrayLike,
     gyr_parent: ArrayLike,
@@ -135,13 +157,14 @@ def calibrate_hinge_joint(
     A pair recorded below ``options.min_fit_rate_hz`` (100 Hz) is fitted on its signals
     interpolated to a multiple of the rate (:mod:`~lowerlimb.upsample`).
 
-    With ``options.pair_band_test`` and a still start, a pair whose rigid band caps its
-    cut-offs and whose axis, seen from the two sensors, differs in elevation at rest by more
-    than ``options.fit_band_max_mismatch_deg`` (6°; a rigid hinge keeps them equal, as the leg
+    With ``options.pair_band_test``, a pair whose rigid band caps its cut-offs and whose
+    axis, seen from the two sensors, differs in elevation at rest by more than
+    ``options.fit_band_max_mismatch_deg`` (6°; a rigid hinge keeps them equal, as the leg
     calibration's fit band reads it) is fitted again below the cap, with a warning: the
     sensors move on their segments (the real walk's knees: 17 / 22°, their centres 286 / 155 mm
     from the leg calibration's axis line in the thigh sensor → 7 / 0 mm;
-    ``benchmarks/results/pair_api.md``).
+    ``benchmarks/results/pair_api.md``). Without a still start the mismatch is read as its
+    median over the motion (:func:`~lowerlimb.calibration.knee_line.moving_axis_mismatch`).
 
     Args:
         acc_parent: (N, 3) parent accelerometer (specific force), parent sensor frame, m/s².
@@ -180,14 +203,12 @@ def calibrate_hinge_joint(
             parent_sensor=parent_sensor, child_sensor=child_sensor,
         )  # fmt: skip
 
-    if bands.capped is None or n == 0:
+    if bands.capped is None:
         return fit(bands.full)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         hinge = fit(bands.full)
-    up = _still_gravity(bands.full, n)
-    assert up is not None  # n > 0
-    mismatch = np.degrees(standing_axis_mismatch(hinge, *up))
+    mismatch, where = _axis_mismatch_deg(hinge, bands.full, n, bands.sig.rate_hz, opts)
     if abs(mismatch) <= opts.fit_band_max_mismatch_deg:
         for w in caught:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
@@ -195,7 +216,7 @@ def calibrate_hinge_joint(
     capped = fit(bands.capped)
     message = (
         f"{joint}: the hinge axis seen from the {parent_sensor} and from the {child_sensor} sensor differs "
-        f"by {abs(mismatch):.0f}° in elevation at rest (a rigid hinge keeps them equal): the sensors move "
+        f"by {abs(mismatch):.0f}° in elevation {where} (a rigid hinge keeps them equal): the sensors move "
         f"on their segments, so the pair was fitted below {bands.cap_hz:.1f} Hz, where their "
         f"accelerometers stay coherent"
     )

@@ -294,6 +294,10 @@ class CalibrationOptions:
             2° took for loose sensors (thigh and shank 13–37 mm short,
             ``gait_knee_rotation.md``). The real walk's legs: 17–24°; the simulator's
             real-walk artefacts: 0.1–7.8°.
+        moving_mismatch_lowpass_hz: without a still start, the hinge pair API
+            (:func:`~lowerlimb.calibration.hinge_joint.calibrate_hinge_joint`) reads that
+            mismatch as its median over the motion, on accelerometers low-passed at this
+            cut-off, Hz (:func:`~lowerlimb.calibration.knee_line.moving_axis_mismatch`).
         fit_band_min_ratio: a segment of the widened fit shorter than this times its
             anthropometric length (at ``prior_stature_m``) is implausible.
         fit_band_max_ratio: one longer than this times it is implausible.
@@ -450,6 +454,7 @@ class CalibrationOptions:
     cutoff_probe_factor: float = 1.5
     fit_band_factor: float = 1.5
     fit_band_max_mismatch_deg: float = 6.0
+    moving_mismatch_lowpass_hz: float = 1.0
     fit_band_min_ratio: float = 0.6
     fit_band_max_ratio: float = 1.5
     cutoff_probe_max_samples: int = 6000
@@ -488,6 +493,7 @@ class CalibrationOptions:
             "knee_line_min_data_std_m",
             "knee_line_max_mismatch_deg",
             "fit_band_max_mismatch_deg",
+            "moving_mismatch_lowpass_hz",
             "hinge_band_max_disagreement_deg",
         ):
             if getattr(self, name) <= 0:
