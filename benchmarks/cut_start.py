@@ -28,11 +28,14 @@ import sys
 import tempfile
 import warnings
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 
 from lowerlimb.bilateral import UnanchoredFeetWarning, process_bilateral_trial
+from lowerlimb.calibration.fit_band import segment_lengths_m
+from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.io.bilateral_trial import BilateralTrial
 from lowerlimb.io.trial import StandingStartWarning
 from lowerlimb.model.fallback import segment_lengths
@@ -95,6 +98,15 @@ def score_sim(sim: Any, res: Any, t0: float, t_from: float) -> dict[str, Any]:
         est = np.asarray(cal[side]["joints"]["knee"]["axis_in_parent_sensor"])
         tru = np.asarray(sim.truth["legs"][side]["joints"]["knee"]["axis_in_parent_sensor"])
         out[f"{side}_knee_axis_deg"] = float(np.degrees(np.arccos(np.clip(est @ tru, -1.0, 1.0))))
+        j = sim.truth["legs"][side]["joints"]
+        true_leg = SimpleNamespace(
+            hip=SphericalJointCalibration.from_dict(j["hip"], "hip"),
+            knee=HingeJointCalibration.from_dict(j["knee"]),
+            ankle=SphericalJointCalibration.from_dict(j["ankle"], "ankle"),
+        )
+        err = 1000.0 * np.subtract(segment_lengths(res.legs[side].calibration), segment_lengths_m(true_leg))
+        out[f"{side}_thigh_err_mm"], out[f"{side}_shank_err_mm"] = (float(e) for e in err)
+        out[f"{side}_widened"] = bool(res.legs[side].calibration.fit_band.widened)
     strides = res.gait.parameters.strides if res.gait.parameters is not None else []
     length, width = [], []
     for st in sim.gait.strides:
@@ -183,6 +195,10 @@ def _c(s: dict[str, Any], unit: str = "") -> str:
     return f"{s['median_abs']:.1f} / {s['worst_abs']:.1f}{unit}" if s.get("n") else "–"
 
 
+def _yes(flag: bool) -> str:
+    return "yes" if flag else "no"
+
+
 def markdown(res: dict[str, Any]) -> str:
     L = [
         "# Walks without a standing start (cut mid-stride)",
@@ -194,25 +210,31 @@ def markdown(res: dict[str, Any]) -> str:
         "",
         "## Simulated (seeds 201–206, 60 s, 100 Hz; cut at the middle of the first right swing after 5 s)",
         "",
-        "| seed | trial | knee axis L / R deg | stride length % | IC ms | TO ms | step width mm (given) "
-        "| warnings: standing / unanchored |",
-        "|---|---|---|---|---|---|---|---|",
+        "| seed | trial | knee axis L / R deg | thigh L / R mm | shank L / R mm | widened band L / R "
+        "| stride length % | IC ms | TO ms | step width mm (given) | warnings: standing / unanchored |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in res["simulated"]:
         w = r["warnings"]
         if "refused" in r:
-            L.append(f"| {r['seed']} | {r['trial']} | refused: {r['refused'][:80]} | | | | | |")
+            L.append(f"| {r['seed']} | {r['trial']} | refused: {r['refused'][:80]} | | | | | | | | |")
             continue
         L.append(
             f"| {r['seed']} | {r['trial']} | "
             f"{r['left_knee_axis_deg']:.1f} / {r['right_knee_axis_deg']:.1f} | "
+            f"{r['left_thigh_err_mm']:+.0f} / {r['right_thigh_err_mm']:+.0f} | "
+            f"{r['left_shank_err_mm']:+.0f} / {r['right_shank_err_mm']:+.0f} | "
+            f"{_yes(r['left_widened'])} / {_yes(r['right_widened'])} | "
             f"{_c(r['stride_length_pct'])} | {_c(r['initial_contact_ms'])} | {_c(r['toe_off_ms'])} | "
             f"{_c(r['step_width_mm'])} ({r['step_width_given']}) | "
             f"{w['standing_start']} / {w['unanchored']} |"
         )
     L += [
         "",
-        "Cells: median / worst absolute error. Knee axis: angle to the true axis in the thigh sensor.",
+        "Cells: median / worst absolute error. Knee axis: angle to the true axis in the thigh sensor. "
+        "Lengths: hip and ankle centre to the knee axis line, signed error against the truth. Widened "
+        "band: the leg's joints were fitted with the rigid-band caps widened (its knee showed rigid "
+        "sensors: at the standing start, or since 0.5.15 over the motion without one).",
         "",
         "## Real walk (`gait/`, against Vicon; cut s after walking begins)",
         "",

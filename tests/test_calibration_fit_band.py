@@ -166,9 +166,11 @@ def test_a_leg_implausible_in_both_capped_bands_is_fitted_without_the_caps() -> 
     assert LegCalibration.from_dict(cal.to_dict()).fit_band == cal.fit_band
 
 
-def test_a_trial_without_a_standing_start_is_fitted_in_the_coherent_band_only(capped_leg) -> None:
-    """Nothing shows its sensors rigid: one fit, the coherent band's, and the reason recorded."""
-    trial, _ = capped_leg
+def test_a_trial_without_a_standing_start_reads_its_knee_over_the_motion(capped_leg) -> None:
+    """Rigid sensors show over the motion too: the widened band is kept without a standing start,
+    and nearer the truth than the coherent band; the old rule (``fit_band_without_standing=False``)
+    keeps the coherent band with the reason recorded."""
+    trial, truth = capped_leg
     i = int(10.0 * trial.rate_hz)  # mid-walk
     cut = ll.ImuTrial(
         trial.time_s[i:] - trial.time_s[i],
@@ -182,8 +184,11 @@ def test_a_trial_without_a_standing_start_is_fitted_in_the_coherent_band_only(ca
         warnings.simplefilter("ignore")
         cal = calibrate_leg(cut)
         edge = calibrate_leg(cut, options=CalibrationOptions(fit_band_factor=1.0))
-    assert cal.fit_band == FitBand(1.5, widened=False, reason=NO_STANDING_START, capped=edge.fit_band.capped)
-    assert segment_lengths_m(cal) == pytest.approx(segment_lengths_m(edge), abs=1e-12)
+        old = calibrate_leg(cut, options=CalibrationOptions(fit_band_without_standing=False))
+    assert cal.fit_band == FitBand(1.5, widened=True, capped=edge.fit_band.capped)
+    assert np.abs(_lengths_error_mm(cal, truth)).max() < np.abs(_lengths_error_mm(edge, truth)).max()
+    assert old.fit_band == FitBand(1.5, widened=False, reason=NO_STANDING_START, capped=edge.fit_band.capped)
+    assert segment_lengths_m(old) == pytest.approx(segment_lengths_m(edge), abs=1e-12)
 
 
 @pytest.mark.slow
@@ -230,6 +235,21 @@ def test_real_walk_legs_whose_sensors_turn_on_tissue_stay_in_the_coherent_band()
         assert not cal.fit_band.widened and "knee axis" in str(cal.fit_band.reason), side
         assert segment_lengths_m(cal) == pytest.approx(segment_lengths_m(edge), abs=1e-9), side
         assert implausible_segment(cal, CalibrationOptions()) is None
+
+
+@pytest.mark.data
+@pytest.mark.skipif(DATA is None or not (DATA / "gait").is_dir(), reason="real-walk data absent")
+@pytest.mark.parametrize("side", ["left", "right"])
+def test_real_walk_legs_without_their_standing_start_stay_in_the_coherent_band(side: str) -> None:
+    """Cut where walking begins, the same legs show their loose sensors over the motion."""
+    assert DATA is not None
+    trial = ll.read_xsens(DATA / "gait" / "rawimu", real_walk_leg_mapping(side), side=side)
+    cut = trial.from_sample(1100)
+    assert cut.still_period().samples(0.5) == 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cal = calibrate_leg(cut)
+    assert not cal.fit_band.widened and "over the motion" in str(cal.fit_band.reason), side
 
 
 def test_a_knee_that_turns_as_it_flexes_is_not_taken_for_loose_sensors() -> None:

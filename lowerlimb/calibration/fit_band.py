@@ -51,12 +51,14 @@ estimates disagree at standing by more than ``fit_band_max_mismatch_deg``
 (:func:`axis_mismatch_reason`, checked as soon as the knee is fitted; the knee's own
 mismatch warning then says so), or a segment is implausible (:func:`implausible_segment`,
 with a warning of its own). The coherent fit is kept beside a widened one
-(``LegCalibration.coherent_fit``) for the clock search. A trial without a standing start,
-where nothing can show rigid sensors, is fitted in the coherent band only: the real walk
-cut mid-stride kept,
-widened, a plausible right leg with its thigh at +28 … −16 mm and its shank at +17 … +21 mm
-against Plug-in Gait, where the coherent band gives +58 … +22 and −5 … −22 mm
-(``benchmarks/results/cut_start.md``, three cuts), no clear gain.
+(``LegCalibration.coherent_fit``) for the clock search. A trial without a standing start
+reads the knee's mismatch over the motion instead (:func:`moving_mismatch_reason`,
+:func:`~lowerlimb.calibration.knee_line.moving_axis_mismatch`; since 0.5.15): the simulated
+two-leg walks cut mid-stride are widened as their whole walks are and land within 2 mm of
+them (they kept the coherent band before: thighs down to −82 mm, shanks down to −82 mm), and
+the real walk cut after its standing start keeps the coherent band (17 / 22° over the
+motion), unchanged (``benchmarks/results/cut_start.md``).
+``CalibrationOptions.fit_band_without_standing=False`` keeps such a trial in the coherent band.
 
 The caps can also be wrong the other way. They end a joint's band where the two sensors'
 acceleration norms stop being coherent, which soft tissue does, but so does rigid rotation
@@ -76,7 +78,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from lowerlimb.calibration.geometry import distance_to_line
-from lowerlimb.calibration.knee_line import standing_axis_mismatch
+from lowerlimb.calibration.knee_line import moving_axis_mismatch, standing_axis_mismatch
 from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.calibration.results import HingeJointCalibration, SphericalJointCalibration
 from lowerlimb.conventions import FloatArray
@@ -87,6 +89,7 @@ __all__ = [
     "FitBand",
     "axis_mismatch_reason",
     "implausible_segment",
+    "moving_mismatch_reason",
     "segment_lengths_m",
     "widened_caps",
 ]
@@ -168,7 +171,39 @@ def axis_mismatch_reason(
     )
 
 
-#: :attr:`FitBand.reason` of a trial without a standing start: nothing shows that its sensors are rigid.
+def moving_mismatch_reason(
+    knee: HingeJointCalibration,
+    acc_thigh: FloatArray,
+    acc_shank: FloatArray,
+    rate_hz: float,
+    options: CalibrationOptions,
+) -> str | None:
+    """:func:`axis_mismatch_reason` for a trial without a standing start: the mismatch over the motion.
+
+    Args:
+        knee: the widened fit's knee.
+        acc_thigh: (N, 3) the thigh accelerometer, sensor frame, m/s².
+        acc_shank: (N, 3) the shank accelerometer, sensor frame, m/s².
+        rate_hz: sampling rate, Hz.
+        options: ``fit_band_max_mismatch_deg``, ``moving_mismatch_lowpass_hz``.
+
+    Returns:
+        The reason when the median elevation difference
+        (:func:`~lowerlimb.calibration.knee_line.moving_axis_mismatch`) exceeds
+        ``fit_band_max_mismatch_deg``.
+    """
+    rad = moving_axis_mismatch(knee, acc_thigh, acc_shank, rate_hz, options.moving_mismatch_lowpass_hz)
+    mismatch = float(np.degrees(rad))
+    if abs(mismatch) <= options.fit_band_max_mismatch_deg:
+        return None
+    return (
+        f"the knee axis seen from the thigh and from the shank sensor differs by "
+        f"{abs(mismatch):.0f}° in elevation over the motion (median; no standing start)"
+    )
+
+
+#: :attr:`FitBand.reason` of a trial without a standing start fitted with
+#: ``fit_band_without_standing=False``: nothing was read to show that its sensors are rigid.
 NO_STANDING_START = "no standing start, where the two knee axis estimates would show rigid sensors"
 
 #: :attr:`FitBand.reason` of a leg whose coherent-band caps lowered no cut-off: both bands give one fit.

@@ -50,6 +50,7 @@ from lowerlimb.calibration.fit_band import (
     FitBand,
     axis_mismatch_reason,
     implausible_segment,
+    moving_mismatch_reason,
     widened_caps,
 )
 from lowerlimb.calibration.hinge_joint import below_parent_above_child, fit_hinge_joint
@@ -370,7 +371,7 @@ def _fit_in_band(leg: _CheckedLeg, opts: CalibrationOptions) -> LegCalibration:
         fit = _fit_leg(leg, opts)
         return _kept(leg, fit, fit.cal.fit_band, [])
     factor = opts.fit_band_factor
-    if n == 0:
+    if n == 0 and not opts.fit_band_without_standing:
         fit = _fit_leg(leg, opts)
         return _kept(leg, fit, replace(fit.cal.fit_band, factor=factor, reason=NO_STANDING_START), [])
     with warnings.catch_warnings(record=True) as caught:
@@ -379,10 +380,15 @@ def _fit_in_band(leg: _CheckedLeg, opts: CalibrationOptions) -> LegCalibration:
     capped = coherent.cal.fit_band.capped
     if not capped:
         return _kept(leg, coherent, FitBand(factor, reason=NO_CAP_BINDS), caught)
-    up = {s: leg.acc[s][:n].mean(axis=0) for s in ("thigh", "shank")}
 
     def rigid_knee(knee: HingeJointCalibration) -> None:
-        reason = axis_mismatch_reason(knee, up["thigh"], up["shank"], opts)
+        reason = (
+            axis_mismatch_reason(
+                knee, leg.acc["thigh"][:n].mean(axis=0), leg.acc["shank"][:n].mean(axis=0), opts
+            )
+            if n
+            else moving_mismatch_reason(knee, leg.acc["thigh"], leg.acc["shank"], leg.rate, opts)
+        )
         if reason is not None:
             raise _NotRigid(reason)
 

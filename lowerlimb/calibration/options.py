@@ -294,6 +294,10 @@ class CalibrationOptions:
             2° took for loose sensors (thigh and shank 13–37 mm short,
             ``gait_knee_rotation.md``). The real walk's legs: 17–24°; the simulator's
             real-walk artefacts: 0.1–7.8°.
+        fit_band_without_standing: a leg recorded without a standing start is tried in the
+            widened band too, its knee's mismatch read over the motion
+            (:func:`~lowerlimb.calibration.fit_band.moving_mismatch_reason`); off, such a leg
+            keeps the coherent band, as before 0.5.15.
         moving_mismatch_lowpass_hz: without a still start, the hinge pair API
             (:func:`~lowerlimb.calibration.hinge_joint.calibrate_hinge_joint`) reads that
             mismatch as its median over the motion, on accelerometers low-passed at this
@@ -455,6 +459,7 @@ class CalibrationOptions:
     fit_band_factor: float = 1.5
     fit_band_max_mismatch_deg: float = 6.0
     moving_mismatch_lowpass_hz: float = 1.0
+    fit_band_without_standing: bool = True
     fit_band_min_ratio: float = 0.6
     fit_band_max_ratio: float = 1.5
     cutoff_probe_max_samples: int = 6000
