@@ -22,6 +22,8 @@ import numpy as np
 from ..conventions import SENSORS, SIDES, FloatArray
 from ..errors import InputError, MissingColumnError, TooShortError
 from ..stillness import StillPeriod, detect_still_period
+from .csv_header import header_line
+from .header_units import check_mag_units
 from .mag_cells import bridged_magnetometer
 from .recording import TWO_LEG_SENSORS
 from .time_axis import TimeAxis
@@ -54,22 +56,17 @@ def read_header(path: str | os.PathLike[str]) -> list[str]:
 
     Raises:
         FileNotFoundError: ``path`` does not exist.
-        InputError: the file is empty, its header is not UTF-8, or the csv module cannot read it.
+        InputError: the file is empty, binary or not UTF-8, or the csv module cannot read its header
+            (:func:`~lowerlimb.io.csv_header.header_line`: blank, ``#`` and ``sep=`` lines before it
+            are skipped).
     """
     path = os.fspath(path)
     if not os.path.isfile(path):
         raise FileNotFoundError(f"trial file not found: {path}")
-    with open(path, newline="", encoding="utf-8-sig") as f:
-        try:
-            return header_names(next(csv.reader(f)))
-        except StopIteration:
-            raise InputError(f"{path} is empty; give a trial CSV with a header row") from None
-        except UnicodeDecodeError as e:
-            raise InputError(
-                f"{path} is not UTF-8 text (byte {e.object[e.start]:#04x}); save the trial CSV as UTF-8"
-            ) from None
-        except csv.Error as e:
-            raise unreadable_csv(path, e) from None
+    try:
+        return header_names(next(csv.reader([header_line(path).text])))
+    except csv.Error as e:
+        raise unreadable_csv(path, e) from None
 
 
 def trial_layout(header: list[str]) -> str:
@@ -205,6 +202,7 @@ class BilateralTrial(TimeAxis):
         if "time" not in header:
             raise MissingColumnError("time", header, path, two_legs=True)
         check_unique_columns(header, path)
+        check_mag_units(header, path)
         has_mag = has_all_mag(header, TWO_LEG_SENSORS)
         signals = ("acc", "gyr", "mag") if has_mag else ("acc", "gyr")
         names = ["time"] + [n for s in TWO_LEG_SENSORS for g in signals for n in column_names(s, g)]

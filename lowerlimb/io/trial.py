@@ -38,9 +38,9 @@ from ..errors import (
 )
 from ..stillness import StillPeriod, detect_still_period
 from .bounds import INPUT_BOUNDS
-from .header_units import without_own_unit
+from .csv_header import RaggedRow, header_line, is_skipped_line, ragged_row
+from .header_units import check_mag_units, without_own_unit
 from .mag_cells import bridged_magnetometer
-from .text_file import BINARY_MAGIC
 from .time_axis import TimeAxis, guess_time_unit, require_increasing
 from .uneven_clock import CLOCK_PARAMS, refuse_batched_stamps, to_uniform_clock
 
@@ -413,6 +413,8 @@ class ImuTrial(TimeAxis):
         names = ["time"]
         for s in SENSORS:
             names += column_names(s, "acc") + column_names(s, "gyr")
+        if use_mag:
+            check_mag_units(header, path)
         has_mag = use_mag and has_all_mag(header, SENSORS)
         if has_mag:
             names += [n for s in SENSORS for n in column_names(s, "mag")]
@@ -516,24 +518,12 @@ def leg_side(header: Sequence[str], side: str | None, path: str = "") -> str | N
 
 
 def _read_header(path: str) -> list[str]:
-    """The trial's header row, stripped; refuses binary, non-UTF-8 and non-comma files."""
-    with open(path, "rb") as f:
-        head = f.read(65536)
-    for magic, what in BINARY_MAGIC.items():
-        if head.startswith(magic):
-            raise InputError(f"{path} is {what}, not a trial CSV; decompress or export it as CSV text")
-    if b"\x00" in head:
-        raise InputError(f"{path} is a binary file, not a trial CSV; export the recording as CSV text")
-    try:
-        with open(path, newline="", encoding="utf-8-sig") as f:
-            line = f.readline()
-    except UnicodeDecodeError as e:
-        raise InputError(
-            f"{path} is not UTF-8 text (byte {e.object[e.start]:#04x} at offset {e.start}); "
-            f"save the trial CSV as UTF-8"
-        ) from None
-    if not line.strip():
-        raise InputError(f"{path} is empty; give a trial CSV with a header row")
+    """The trial's header row, stripped; refuses binary, non-UTF-8 and non-comma files.
+
+    Lines before it that are blank, ``#`` comments or Excel's ``sep=`` line are skipped
+    (:func:`~lowerlimb.io.csv_header.header_line`).
+    """
+    line = header_line(path).text
     try:
         header = header_names(next(csv.reader([line])))
     except csv.Error as e:
@@ -583,15 +573,22 @@ def read_numbers(
     Raises:
         InputError: naming the bad cell or row.
     """
+    head = header_line(path)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             values = np.loadtxt(
-                path, delimiter=",", skiprows=1, usecols=usecols, dtype=float, ndmin=2, encoding="utf-8-sig"
+                path,
+                delimiter=",",
+                skiprows=head.index + 1,
+                usecols=usecols,
+                dtype=float,
+                ndmin=2,
+                encoding="utf-8-sig",
             )
         optional = [k for k, c in enumerate(usecols) if c in blank_ok]
-        if not np.isnan(values[:, optional]).any():
-            return values  # else the slow path names the written-out NaN
+        if not np.isnan(values[:, optional]).any() and ragged_row(path, head, len(header)) is None:
+            return values  # else the slow path names the written-out NaN or the ragged row
     except UnicodeDecodeError as e:
         raise InputError(
             f"{path} is not UTF-8 text (byte {e.object[e.start]:#04x}); save the trial CSV as UTF-8"
@@ -601,21 +598,32 @@ def read_numbers(
     # the slow path: quoted numbers, or naming the first bad cell
     rows: list[list[float]] = []
     with open(path, newline="", encoding="utf-8-sig") as f:
-        reader = csv.reader(f)
-        try:
-            next(reader)
-            for row_no, row in enumerate(reader, start=1):
-                if not row or all(not c.strip() for c in row):
-                    continue
-                if len(row) != len(header):
-                    raise InputError(
-                        f"{path} data row {row_no} has {len(row)} values but the header names "
-                        f"{len(header)} columns; fix the CSV"
-                    )
-                rows.append([_cell_value(row[c], header[c], row_no, c in blank_ok) for c in usecols])
-        except csv.Error as e:
-            raise unreadable_csv(path, e) from None
+        lines = [ln for ln in list(f)[head.index + 1 :] if not is_skipped_line(ln)]
+    try:
+        for row_no, row in enumerate(csv.reader(lines), start=1):
+            if not row or all(not c.strip() for c in row):
+                continue
+            if len(row) == len(header) + 1 and not row[-1].strip():
+                row = row[:-1]  # a trailing comma
+            if len(row) != len(header):
+                raise _ragged(path, RaggedRow(row_no, len(row), len(header), row_no == len(lines)))
+            rows.append([_cell_value(row[c], header[c], row_no, c in blank_ok) for c in usecols])
+    except csv.Error as e:
+        raise unreadable_csv(path, e) from None
     return np.asarray(rows, dtype=float).reshape(-1, len(usecols))
+
+
+def _ragged(path: str, r: RaggedRow) -> InputError:
+    """The error for a data row of the wrong length (an interrupted last row named as such)."""
+    if r.last and r.n_values < r.n_columns:
+        return InputError(
+            f"{path}: the last data row ({r.row_no}) has {r.n_values} of {r.n_columns} values, as an "
+            f"interrupted recording leaves it; delete that row"
+        )
+    return InputError(
+        f"{path} data row {r.row_no} has {r.n_values} values but the header names {r.n_columns} "
+        f"columns; every row needs one value per column (a value added or lost shifts the columns after it)"
+    )
 
 
 def unreadable_csv(path: str, error: csv.Error) -> InputError:
