@@ -175,7 +175,9 @@ class BilateralTrial(TimeAxis):
                 self.leg(side).check_motion(min_gyro_std_rps)
             except NoMotionError as e:
                 sensor = f"{side}_{e.sensor}"
-                raise NoMotionError(sensor, e.gyro_std_rps, e.required_rps, reusable=False) from None
+                raise NoMotionError(
+                    sensor, e.gyro_std_rps, e.required_rps, reusable=False, acc_std_mps2=e.acc_std_mps2
+                ) from None
 
     def still_period(self) -> StillPeriod:
         """The still run at the start of the recording, over all seven IMUs."""

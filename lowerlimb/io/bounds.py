@@ -41,6 +41,10 @@ class InputBounds:
         min_motion_gyro_std_rps: a trial whose thigh, shank or foot gyro varies
             less than this (standard deviation of the angular-rate magnitude,
             rad/s) holds no motion to calibrate from.
+        moving_acc_std_mps2: a sensor whose gyro shows no motion while its accelerometer's
+            magnitude varies more than this (standard deviation, m/s²) moved: its gyro is in the
+            wrong unit or columns (a still sensor's varies by its noise, 0.01–0.1 m/s²; a
+            walking thigh's by 1–3 m/s²).
         max_json_bytes: largest calibration or S2J JSON file read, bytes.
         max_sample_abs: largest magnitude of one accelerometer (m/s²) or gyro (rad/s)
             sample of a trial: beyond every body-worn sensor's range in any unit
@@ -59,6 +63,7 @@ class InputBounds:
     max_samples: int = 2_000_000
     max_seed: int = 2**32 - 1
     min_motion_gyro_std_rps: float = 0.05
+    moving_acc_std_mps2: float = 0.5
     max_json_bytes: int = 200_000_000
     max_sample_abs: float = 1.0e4
     max_median_acc_mps2: float = 4.0 * GRAVITY_MPS2

@@ -39,6 +39,7 @@ from ..errors import (
 from ..stillness import StillPeriod, detect_still_period
 from .bounds import INPUT_BOUNDS
 from .csv_header import RaggedRow, header_line, is_skipped_line, ragged_row
+from .gyro_scale import check_gyro_scale
 from .header_units import check_mag_units, without_own_unit
 from .mag_cells import bridged_magnetometer
 from .time_axis import TimeAxis, guess_time_unit, require_increasing
@@ -109,12 +110,27 @@ class NoMotionError(InputError):
     """The trial holds no motion to calibrate the joints from; carries the gyro variation (rad/s)."""
 
     def __init__(
-        self, sensor: str, gyro_std_rps: float, required_rps: float, *, reusable: bool = True
+        self,
+        sensor: str,
+        gyro_std_rps: float,
+        required_rps: float,
+        *,
+        reusable: bool = True,
+        acc_std_mps2: float = 0.0,
     ) -> None:
         self.sensor = sensor
         self.gyro_std_rps = gyro_std_rps
         self.required_rps = required_rps
+        self.acc_std_mps2 = acc_std_mps2
         reuse = ", or reuse an earlier calibration with --calibration" if reusable else ""
+        if acc_std_mps2 >= INPUT_BOUNDS.moving_acc_std_mps2:
+            super().__init__(
+                f"the {sensor} gyro barely turns (its angular rate varies by {gyro_std_rps:.3g} rad/s) "
+                f"while its accelerometer moves (its magnitude varies by {acc_std_mps2:.2g} m/s²): a gyro "
+                f"in the wrong unit (rad/s data converted as if in deg/s?) or the wrong columns; the "
+                f"trial format expects rad/s"
+            )
+            return
         super().__init__(
             f"the trial holds no motion to calibrate from: the {sensor} angular rate varies by "
             f"{gyro_std_rps:.3g} rad/s (at least {required_rps:g} rad/s needed); record a walk or "
@@ -198,7 +214,8 @@ class ImuTrial(TimeAxis):
             NonFiniteValueError: NaN or inf in any signal.
             SampleGlitchError: an accelerometer or gyro sample beyond any sensor's range
                 (:attr:`~lowerlimb.io.bounds.InputBounds.max_sample_abs`).
-            UnitError: gyro in deg/s or accelerometer in g;
+            UnitError: gyro in deg/s (its values, or its turns against the accelerometer's,
+                :mod:`~lowerlimb.io.gyro_scale`) or accelerometer in g;
                 :class:`ImplausibleAccelerometerError` for an accelerometer whose median
                 magnitude is far above gravity (gyro columns, or cm/s² or mm/s²).
             TooShortError: fewer than 2 s of data.
@@ -301,6 +318,7 @@ class ImuTrial(TimeAxis):
         if self.duration_s < MIN_DURATION_S:
             raise TooShortError(self.duration_s, MIN_DURATION_S)
         check_distinct_sensors(self.acc, self.gyr, SENSORS)
+        check_gyro_scale(self.acc, self.gyr, self.rate_hz, SENSORS)
 
     def check_motion(self, min_gyro_std_rps: float) -> None:
         """Refuse a trial with no motion to calibrate from (still, or exactly constant).
@@ -316,7 +334,8 @@ class ImuTrial(TimeAxis):
         for sensor in SENSORS[1:]:
             std = float(np.std(np.linalg.norm(self.gyr[sensor], axis=1)))
             if not std >= min_gyro_std_rps:
-                raise NoMotionError(sensor, std, min_gyro_std_rps)
+                acc_std = float(np.std(np.linalg.norm(self.acc[sensor], axis=1)))
+                raise NoMotionError(sensor, std, min_gyro_std_rps, acc_std_mps2=acc_std)
 
     def still_period(self) -> StillPeriod:
         """Detect the still run at the start of the recording, over every IMU.
