@@ -20,10 +20,18 @@ from test_io_import import IDS, TWO_IDS, _export_dir, _mapping, _vendor_csv
 from lowerlimb.cli import main
 from lowerlimb.conventions import SENSORS
 from lowerlimb.errors import InputError, NonFiniteValueError, UnitError
-from lowerlimb.io import CsvMapping, MappingError, load_mapped_csv, load_xsens, read_mapped_csv, read_xsens
+from lowerlimb.io import (
+    CsvMapping,
+    MappingError,
+    load_mapped_csv,
+    load_xsens,
+    read_mapped_csv,
+    read_xsens,
+    text_file,
+)
 from lowerlimb.io.bilateral_trial import BilateralTrial
 from lowerlimb.io.bounds import INPUT_BOUNDS
-from lowerlimb.io.errors import ColumnReusedError, NotTextError
+from lowerlimb.io.errors import ColumnReusedError, NotTextError, UnreadableFileError
 from lowerlimb.io.trial import IdenticalSensorsError, ImplausibleAccelerometerError, ImuTrial
 
 MAP_ARG = ",".join(f"{k}={v}" for k, v in IDS.items())
@@ -91,6 +99,54 @@ def test_mapped_csv_latin1_header_is_not_utf8(tmp_path, capsys):
     map_path.write_bytes(json.dumps(m, ensure_ascii=False).encode("latin-1"))
     with pytest.raises(NotTextError, match="map.json is not UTF-8 text"):
         CsvMapping.from_json(map_path)
+
+
+@pytest.mark.parametrize(
+    "encoding, bom, name",
+    [
+        ("utf-16-le", b"\xff\xfe", "UTF-16"),  # Excel's "Unicode Text"
+        ("utf-16-be", b"\xfe\xff", "UTF-16"),
+        ("utf-32-le", b"\xff\xfe\x00\x00", "UTF-32"),
+    ],
+)
+def test_utf16_and_utf32_text_is_named_not_called_binary(tmp_path, capsys, encoding, bom, name):
+    csv_path, map_path = _csv_case(tmp_path)
+    csv_path.write_bytes(bom + csv_path.read_text().encode(encoding))
+    with pytest.raises(NotTextError) as e:
+        load_mapped_csv(csv_path, map_path)
+    assert e.value.problem == "encoding" and e.value.offset == 0
+    err = _refused(["import", "csv", str(csv_path), "--mapping", str(map_path)], capsys, tmp_path / "t.csv")
+    assert f"{csv_path} is {name} text, not UTF-8; save it as UTF-8" in err and "binary" not in err
+    folder = _export_dir(tmp_path)
+    foot = _foot_export(folder)
+    foot.write_bytes(bom + foot.read_text().encode(encoding))
+    err = _refused(["import", "xsens", str(folder), "--map", MAP_ARG], capsys, tmp_path / "t.csv")
+    assert f"{foot} is {name} text, not UTF-8; save it as UTF-8" in err
+
+
+def test_a_file_without_read_permission_is_one_line(tmp_path, capsys, monkeypatch):
+    """chmod 000 does not stop root, so open() is made to refuse the file as it would for a user."""
+    csv_path, map_path = _csv_case(tmp_path)
+    folder = _export_dir(tmp_path)
+    foot = _foot_export(folder)
+
+    def denied(path, *args, **kwargs):
+        if str(path) in (str(csv_path), str(foot)):
+            raise PermissionError(13, "Permission denied", str(path))
+        return open(path, *args, **kwargs)
+
+    monkeypatch.setattr(text_file, "open", denied, raising=False)
+    with pytest.raises(UnreadableFileError) as e:
+        load_mapped_csv(csv_path, map_path)
+    assert e.value.path == str(csv_path)
+    err = _refused(["import", "csv", str(csv_path), "--mapping", str(map_path)], capsys, tmp_path / "t.csv")
+    assert err == (
+        f"lowerlimb: error: cannot read {csv_path} (permission denied); give yourself read access "
+        f"(chmod u+r {csv_path})\n"
+    )
+    err = _refused(["import", "xsens", str(folder), "--map", MAP_ARG], capsys, tmp_path / "t.csv")
+    assert f"cannot read {foot} (permission denied); give yourself read access (chmod u+r {foot})" in err
+    assert "Errno" not in err
 
 
 def test_mapped_csv_folder_and_mapping_folder(tmp_path, capsys):

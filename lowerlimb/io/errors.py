@@ -79,13 +79,26 @@ class NotTextError(InputError):
     Attributes:
         path: the file.
         problem: ``"folder"``, ``"special"`` (a device or pipe), ``"binary"`` or ``"encoding"``.
-        offset: for ``"encoding"``, the byte offset of the first byte that is not UTF-8; else None.
+        offset: for ``"encoding"``, the byte offset of the first byte that is not UTF-8 (0 for
+            UTF-16 or UTF-32 text, named by its byte-order mark); else None.
     """
 
     def __init__(self, path: str, problem: str, message: str, offset: int | None = None) -> None:
         self.path = path
         self.problem = problem
         self.offset = offset
+        super().__init__(message)
+
+
+class UnreadableFileError(InputError):
+    """A file the user may not read (permission denied).
+
+    Attributes:
+        path: the file.
+    """
+
+    def __init__(self, path: str, message: str) -> None:
+        self.path = path
         super().__init__(message)
 
 
