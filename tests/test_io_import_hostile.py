@@ -396,3 +396,115 @@ def test_empty_last_time_cell_with_resampling_is_named(tmp_path):
     csv_path.write_text("\n".join(lines))
     with pytest.raises(NonFiniteValueError, match="'Timestamp' has a NaN or infinite value at data row 300"):
         load_mapped_csv(csv_path, map_path)
+
+
+# ------------------------------------------------------------------ Xsens cells and locales
+
+
+@pytest.mark.parametrize("written", ["inf", "nan", "-inf", "NaN"])
+@pytest.mark.parametrize("column", ["Acc_Y", "Gyr_Z", "Mag_X"])
+def test_xsens_written_inf_or_nan_is_refused_not_filled(tmp_path, capsys, written, column):
+    folder = _export_dir(tmp_path)
+    foot = _foot_export(folder)
+    lines = foot.read_text().splitlines()
+    header = lines[3].split(",")
+    cells = lines[50].split(",")
+    cells[header.index(column)] = written
+    lines[50] = ",".join(cells)
+    foot.write_text("\n".join(lines) + "\n")
+    message = (
+        f"{foot} line 51: {column} is '{written}', not a measured value; empty the cell (a missing "
+        f"sample, filled by interpolation) or remove the row"
+    )
+    with pytest.raises(InputError) as e:
+        load_xsens(folder, IDS)
+    assert str(e.value) == message
+    err = _refused(["import", "xsens", str(folder), "--map", MAP_ARG], capsys, tmp_path / "t.csv")
+    assert err == f"lowerlimb: error: {message}\n"
+
+
+def test_xsens_empty_cell_is_still_a_filled_packet_and_nan_counter_is_refused(tmp_path):
+    folder = _export_dir(tmp_path, foot={"empty_acc": {1050}})
+    assert load_xsens(folder, IDS).filled["foot"] == 1
+    foot = _foot_export(folder)
+    lines = foot.read_text().splitlines()
+    lines[9] = "nan" + lines[9][lines[9].index(",") :]
+    foot.write_text("\n".join(lines))
+    with pytest.raises(
+        InputError, match="line 10: PacketCounter is 'nan', not a measured value; fix or remove"
+    ):
+        load_xsens(folder, IDS)
+
+
+def _localised(path, delimiter):
+    """Rewrite an export as a decimal-comma locale writes it: ``delimiter`` between cells, ',' in numbers."""
+    out = []
+    for line in path.read_text().splitlines():
+        if line.startswith("//"):
+            out.append(line.replace("100.0Hz", "100,0Hz"))
+        else:
+            out.append(line.replace(",", delimiter).replace(".", ","))
+    path.write_text("\n".join(out) + "\n")
+
+
+@pytest.mark.parametrize("delimiter", [";", "\t"])
+def test_xsens_decimal_comma_export_is_read(tmp_path, delimiter):
+    plain = load_xsens(_export_dir(tmp_path / "a"), IDS)
+    folder = _export_dir(tmp_path / "b")
+    for p in folder.iterdir():
+        _localised(p, delimiter)
+    assert "100,0Hz" in _foot_export(folder).read_text()
+    rec = load_xsens(folder, IDS)
+    np.testing.assert_array_equal(rec.time_s, plain.time_s)
+    for s in SENSORS:
+        np.testing.assert_array_equal(rec.acc[s], plain.acc[s])
+        np.testing.assert_array_equal(rec.gyr[s], plain.gyr[s])
+        np.testing.assert_array_equal(rec.mag[s], plain.mag[s])
+
+
+def test_xsens_decimal_comma_mixed_with_a_point_is_refused(tmp_path):
+    folder = _export_dir(tmp_path)
+    foot = _foot_export(folder)
+    _localised(foot, ";")
+    lines = foot.read_text().splitlines()
+    cells = lines[20].split(";")
+    cells[2] = cells[2].replace(",", ".")
+    lines[20] = ";".join(cells)
+    foot.write_text("\n".join(lines))
+    with pytest.raises(InputError, match=r"line 21: Acc_X is '-?0\.\d+', with '.' although the file's other"):
+        load_xsens(folder, IDS)
+
+
+def test_xsens_update_rate_with_a_decimal_comma(tmp_path):
+    folder = _export_dir(tmp_path)
+    foot = _foot_export(folder)
+    foot.write_text(foot.read_text().replace("// Update Rate: 100.0Hz", "// Update Rate: 100,0Hz"))
+    assert load_xsens(folder, IDS).n_samples == 400
+
+
+def test_xsens_column_names_in_any_case(tmp_path, capsys):
+    plain = load_xsens(_export_dir(tmp_path / "a"), IDS)
+    folder = _export_dir(tmp_path / "b")
+    foot = _foot_export(folder)
+    lines = foot.read_text().splitlines()
+    lines[3] = lines[3].lower()
+    foot.write_text("\n".join(lines))
+    rec = load_xsens(folder, IDS)
+    np.testing.assert_array_equal(rec.acc["foot"], plain.acc["foot"])
+    np.testing.assert_array_equal(rec.mag["foot"], plain.mag["foot"])
+    foot.write_text(foot.read_text().replace("gyr_z", "gyr_w"))
+    err = _refused(["import", "xsens", str(folder), "--map", MAP_ARG], capsys, tmp_path / "t.csv")
+    assert f"{foot} has no column 'Gyr_Z'" in err and "mapping" not in err
+    assert "export the recording again from MT Manager with PacketCounter, Acc and Gyr enabled" in err
+
+
+def test_xsens_comma_in_a_column_not_read_leaves_the_decimal_point(tmp_path):
+    plain = load_xsens(_export_dir(tmp_path / "a"), IDS)
+    folder = _export_dir(tmp_path / "b")
+    foot = _foot_export(folder)
+    text = foot.read_text().splitlines()
+    lines = [line if line.startswith("//") else line.replace(",", "\t") for line in text]
+    lines[3] += "\tNote"
+    lines[4:] = [line + "\twalk, slow" for line in lines[4:]]
+    foot.write_text("\n".join(lines))
+    np.testing.assert_array_equal(load_xsens(folder, IDS).acc["foot"], plain.acc["foot"])

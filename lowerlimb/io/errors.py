@@ -26,16 +26,20 @@ class SensorFileError(InputError):
 
 
 class ColumnNotFoundError(InputError):
-    """A vendor file lacks a column the mapping or the format requires."""
+    """A vendor file lacks a column the mapping or the format requires.
 
-    def __init__(self, column: str, available: Sequence[str], path: str) -> None:
+    ``fix`` replaces the default advice (export the column, or fix its name in the mapping),
+    e.g. for a format that has no mapping.
+    """
+
+    def __init__(self, column: str, available: Sequence[str], path: str, fix: str | None = None) -> None:
         self.column = column
         self.available = list(available)
         self.path = path
         shown = ", ".join(self.available[:20]) + (", …" if len(self.available) > 20 else "")
         super().__init__(
             f"{path} has no column '{column}' (it has: {shown}); "
-            f"export it from the vendor software or fix the column name in the mapping"
+            f"{fix or 'export it from the vendor software or fix the column name in the mapping'}"
         )
 
 
