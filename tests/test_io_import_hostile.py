@@ -508,3 +508,104 @@ def test_xsens_comma_in_a_column_not_read_leaves_the_decimal_point(tmp_path):
     lines[4:] = [line + "\twalk, slow" for line in lines[4:]]
     foot.write_text("\n".join(lines))
     np.testing.assert_array_equal(load_xsens(folder, IDS).acc["foot"], plain.acc["foot"])
+
+
+# ------------------------------------------------------------------ a wrong unit of the mapping names it
+
+
+def _time_case(tmp_path, values, unit, **over):
+    """A vendor CSV whose Timestamp column holds ``values`` and a mapping declaring them ``unit``."""
+    _vendor_csv(tmp_path / "v.csv", np.asarray(values, dtype=float))
+    path = tmp_path / "map.json"
+    path.write_text(json.dumps(_mapping(time={"column": "Timestamp", "unit": unit}, **over)))
+    return tmp_path / "v.csv", path
+
+
+@pytest.mark.parametrize(
+    "values, unit, message",
+    [
+        (
+            np.arange(0, 3000, 10.0),  # ms declared s
+            "s",
+            "time steps of 10 s give a rate of 0.1 Hz, slower than the 5 Hz a trial may have; if the "
+            'time column is in ms, set "unit": "ms" in the mapping\'s "time" (a rate of 100 Hz)',
+        ),
+        (
+            1.7e18 + np.arange(0, 3e9, 1e7),  # epoch nanoseconds declared ms
+            "ms",
+            "time steps of 1e+07 ms give a rate of 0.0001 Hz, slower than the 5 Hz a trial may have; if "
+            'the time column is in ns, set "unit": "ns" in the mapping\'s "time" (a rate of 100 Hz)',
+        ),
+        (
+            np.arange(0, 30000, 100.0),  # 10 Hz in ms, 10 kHz in us: no unit gives a trial's rate
+            "s",
+            "time steps of 100 s give a rate of 0.01 Hz, slower than the 5 Hz a trial may have; "
+            'check the "unit" of the mapping\'s "time" (s, ms, us or ns), or map a column of times',
+        ),
+    ],
+)
+def test_time_unit_too_slow_names_the_mapping_unit(tmp_path, capsys, values, unit, message):
+    csv_path, map_path = _time_case(tmp_path, values, unit)
+    with pytest.raises(UnitError) as e:
+        load_mapped_csv(csv_path, map_path)
+    assert str(e.value) == message and e.value.signal == "time.unit"
+    err = _refused(["import", "csv", str(csv_path), "--mapping", str(map_path)], capsys, tmp_path / "t.csv")
+    assert err == f"lowerlimb: error: {message}\n" and "divide" not in err
+    # resampling does not turn it into a gap of 10 s
+    with pytest.raises(UnitError, match="slower than the 5 Hz"):
+        load_mapped_csv(csv_path, _mapping(time={"column": "Timestamp", "unit": unit}, resample_hz=100))
+
+
+def test_sample_numbers_declared_s_say_to_map_times(tmp_path):
+    csv_path, map_path = _time_case(tmp_path, np.arange(300.0), "s")
+    with pytest.raises(
+        UnitError, match='set "unit": "ms" .*; if it holds sample numbers, map a column of times'
+    ):
+        load_mapped_csv(csv_path, map_path)
+
+
+def _scaled_csv(tmp_path, gyr_factor=1.0, acc_factor=1.0):
+    """The vendor CSV with the pelvis gyro (deg/s) and accelerometer (g) columns multiplied."""
+    csv_path, _ = _csv_case(tmp_path)
+    lines = csv_path.read_text().splitlines()
+    header = lines[0].split(";")
+    out = [lines[0]]
+    for line in lines[1:]:
+        cells = line.split(";")
+        for c, f in ((0, acc_factor), (1, acc_factor), (2, acc_factor), (3, gyr_factor)):
+            i = header.index(f"pelvis.{'ag'[c // 3]}{'xyzx'[c]}")
+            cells[i] = f"{float(cells[i].replace(',', '.')) * f:.6f}".replace(".", ",")
+        out.append(";".join(cells))
+    csv_path.write_text("\n".join(out) + "\n")
+    return csv_path
+
+
+def test_gyro_unit_rad_s_for_deg_s_data_names_the_mapping(tmp_path, capsys):
+    csv_path = _scaled_csv(tmp_path, gyr_factor=5.0)  # pelvis gyro up to 150 deg/s
+    m = _mapping()
+    m["sensors"]["pelvis"]["gyr"]["unit"] = "rad/s"
+    (tmp_path / "rads.json").write_text(json.dumps(m))
+    message = (
+        "pelvis gyro values up to 150 rad/s are beyond a gyro's range (35 rad/s) and look like deg/s; "
+        'set "unit": "deg/s" in the mapping\'s pelvis "gyr"'
+    )
+    with pytest.raises(UnitError) as e:
+        load_mapped_csv(csv_path, m)
+    assert str(e.value) == message and e.value.signal == "sensors.pelvis.gyr.unit"
+    argv = ["import", "csv", str(csv_path), "--mapping", str(tmp_path / "rads.json")]
+    err = _refused(argv, capsys, tmp_path / "t.csv")
+    assert err == f"lowerlimb: error: {message}\n" and "multiply" not in err
+    x = read_mapped_csv(csv_path, _mapping()).gyr["pelvis"][:, 0]
+    assert x.max() == pytest.approx(np.deg2rad(149.5))
+
+
+def test_acc_unit_m_s2_for_g_data_names_the_mapping(tmp_path):
+    csv_path, _ = _csv_case(tmp_path)
+    m = _mapping()
+    m["sensors"]["shank"]["acc"]["unit"] = "m/s^2"
+    with pytest.raises(
+        UnitError, match=r"shank accelerometer median magnitude 1.0\d m/s\^2 is too small"
+    ) as e:
+        load_mapped_csv(csv_path, m)
+    assert str(e.value).endswith('looks like g; set "unit": "g" in the mapping\'s shank "acc"')
+    assert e.value.signal == "sensors.shank.acc.unit"
