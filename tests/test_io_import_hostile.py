@@ -609,3 +609,54 @@ def test_acc_unit_m_s2_for_g_data_names_the_mapping(tmp_path):
         load_mapped_csv(csv_path, m)
     assert str(e.value).endswith('looks like g; set "unit": "g" in the mapping\'s shank "acc"')
     assert e.value.signal == "sensors.shank.acc.unit"
+
+
+# ------------------------------------------------------------------ import csv as strict as the trial reader
+
+
+def test_mapped_csv_interrupted_last_row_is_refused(tmp_path, capsys):
+    csv_path, map_path = _csv_case(tmp_path)
+    text = csv_path.read_text()
+    csv_path.write_text(text[: text.rstrip("\n").rindex(";") - 3])  # the row cut inside a number
+    width = len(text.splitlines()[0].split(";"))
+    message = (
+        f"{csv_path}: the last data row 300 has {width - 1} of {width} values: an interrupted "
+        f"recording? delete that row"
+    )
+    with pytest.raises(InputError) as e:
+        load_mapped_csv(csv_path, map_path)
+    assert str(e.value) == message
+    err = _refused(["import", "csv", str(csv_path), "--mapping", str(map_path)], capsys, tmp_path / "t.csv")
+    assert err == f"lowerlimb: error: {message}\n" and "magnetometer" not in err
+
+
+def test_mapped_csv_rows_all_shorter_than_the_header_are_read(tmp_path):
+    """A writer that leaves out trailing empty cells: not an interrupted recording."""
+    csv_path, map_path = _csv_case(tmp_path)
+    lines = csv_path.read_text().splitlines()
+    lines[0] += ";Note"
+    csv_path.write_text("\n".join(lines) + "\n")
+    assert read_mapped_csv(csv_path, map_path).n_samples == 300
+
+
+def test_mapped_csv_column_twice_in_the_header_is_refused_when_mapped(tmp_path, capsys):
+    csv_path, map_path = _csv_case(tmp_path)
+    lines = csv_path.read_text().splitlines()
+    header = lines[0].split(";")
+    k = header.index("thigh.ax")
+    lines = [";".join([*c[:4], c[k], *c[4:]]) for c in (line.split(";") for line in lines)]
+    csv_path.write_text("\n".join(lines) + "\n")
+    message = (
+        f"{csv_path} has the column 'thigh.ax' 2 times in its header (columns 5 and {k + 2}); the "
+        f"mapping reads columns by name, so rename or delete all but one"
+    )
+    with pytest.raises(InputError) as e:
+        load_mapped_csv(csv_path, map_path)
+    assert str(e.value) == message
+    err = _refused(["import", "csv", str(csv_path), "--mapping", str(map_path)], capsys, tmp_path / "t.csv")
+    assert err == f"lowerlimb: error: {message}\n"
+    # a repeated column the mapping does not read is no concern
+    lines = [";".join([*c[:2], "x", *c[2:]]) for c in (line.split(";") for line in lines)]
+    lines[0] = lines[0].replace("thigh.ax", "unused", 1).replace(";x;", ";unused;", 1)
+    csv_path.write_text("\n".join(lines) + "\n")
+    assert read_mapped_csv(csv_path, map_path).n_samples == 300

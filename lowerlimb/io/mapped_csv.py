@@ -69,7 +69,8 @@ def _read_columns(path: str, m: CsvMapping, names: list[str]) -> FloatArray:
 
     Raises:
         NotTextError: a folder, a binary file or non-UTF-8 text.
-        InputError: an empty file, a cell the csv module cannot read, or a non-numeric cell.
+        InputError: an empty file, a cell the csv module cannot read, a non-numeric cell, a
+            named column the header holds twice, or a last row cut short (an interrupted recording).
         ColumnNotFoundError: a name not in the header.
     """
     text = read_text(path, "a CSV file", export_fix="export the recording as CSV text")
@@ -87,6 +88,13 @@ def _read_columns(path: str, m: CsvMapping, names: list[str]) -> FloatArray:
     for n in names:
         if n not in header:
             raise ColumnNotFoundError(n, header, path)
+        if header.count(n) > 1:
+            at = " and ".join(str(i + 1) for i, h in enumerate(header) if h == n)
+            raise InputError(
+                f"{path} has the column {n!r} {header.count(n)} times in its header (columns {at}); "
+                f"the mapping reads columns by name, so rename or delete all but one"
+            )
+    _refuse_interrupted_last_row(path, rows)
     idx = [header.index(n) for n in names]
     out = np.full((len(rows) - 1, len(names)), np.nan)
     for r, row in enumerate(rows[1:]):
@@ -102,6 +110,22 @@ def _read_columns(path: str, m: CsvMapping, names: list[str]) -> FloatArray:
                     f"fix the cell, or the delimiter/decimal of the mapping"
                 ) from None
     return out
+
+
+def _refuse_interrupted_last_row(path: str, rows: list[list[str]]) -> None:
+    """Refuse a last row shorter than the header when the row before it is not (a recording cut off).
+
+    Rows that are all short (a writer that leaves out trailing empty cells) are not refused.
+
+    Raises:
+        InputError: naming the row, its number of values and the header's.
+    """
+    width = len(rows[0])
+    if len(rows) >= 2 and len(rows[-1]) < width and (len(rows) == 2 or len(rows[-2]) >= width):
+        raise InputError(
+            f"{path}: the last data row {len(rows) - 1} has {len(rows[-1])} of {width} values: an "
+            f"interrupted recording? delete that row"
+        )
 
 
 def check_time_unit(time_s: FloatArray, m: CsvMapping) -> None:
@@ -281,7 +305,8 @@ def load_mapped_csv(
             fix (:func:`check_signal_units`).
         NonFiniteValueError: an empty or non-finite time cell, or bad samples when resampling.
         TimeAxisError, PacketGapError: bad time when resampling.
-        InputError: an empty file or a non-numeric cell.
+        InputError: an empty file, a non-numeric cell, a mapped column twice in the header, or a
+            last row cut short.
     """
     params = params or ImportParams()
     m = _as_mapping(mapping)
