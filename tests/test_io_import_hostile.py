@@ -20,10 +20,18 @@ from test_io_import import IDS, TWO_IDS, _export_dir, _mapping, _vendor_csv
 from lowerlimb.cli import main
 from lowerlimb.conventions import SENSORS
 from lowerlimb.errors import InputError, NonFiniteValueError, UnitError
-from lowerlimb.io import CsvMapping, MappingError, load_mapped_csv, load_xsens, read_mapped_csv, read_xsens
+from lowerlimb.io import (
+    CsvMapping,
+    MappingError,
+    load_mapped_csv,
+    load_xsens,
+    read_mapped_csv,
+    read_xsens,
+    text_file,
+)
 from lowerlimb.io.bilateral_trial import BilateralTrial
 from lowerlimb.io.bounds import INPUT_BOUNDS
-from lowerlimb.io.errors import ColumnReusedError, NotTextError
+from lowerlimb.io.errors import ColumnReusedError, NotTextError, UnreadableFileError
 from lowerlimb.io.trial import IdenticalSensorsError, ImplausibleAccelerometerError, ImuTrial
 
 MAP_ARG = ",".join(f"{k}={v}" for k, v in IDS.items())
@@ -91,6 +99,54 @@ def test_mapped_csv_latin1_header_is_not_utf8(tmp_path, capsys):
     map_path.write_bytes(json.dumps(m, ensure_ascii=False).encode("latin-1"))
     with pytest.raises(NotTextError, match="map.json is not UTF-8 text"):
         CsvMapping.from_json(map_path)
+
+
+@pytest.mark.parametrize(
+    "encoding, bom, name",
+    [
+        ("utf-16-le", b"\xff\xfe", "UTF-16"),  # Excel's "Unicode Text"
+        ("utf-16-be", b"\xfe\xff", "UTF-16"),
+        ("utf-32-le", b"\xff\xfe\x00\x00", "UTF-32"),
+    ],
+)
+def test_utf16_and_utf32_text_is_named_not_called_binary(tmp_path, capsys, encoding, bom, name):
+    csv_path, map_path = _csv_case(tmp_path)
+    csv_path.write_bytes(bom + csv_path.read_text().encode(encoding))
+    with pytest.raises(NotTextError) as e:
+        load_mapped_csv(csv_path, map_path)
+    assert e.value.problem == "encoding" and e.value.offset == 0
+    err = _refused(["import", "csv", str(csv_path), "--mapping", str(map_path)], capsys, tmp_path / "t.csv")
+    assert f"{csv_path} is {name} text, not UTF-8; save it as UTF-8" in err and "binary" not in err
+    folder = _export_dir(tmp_path)
+    foot = _foot_export(folder)
+    foot.write_bytes(bom + foot.read_text().encode(encoding))
+    err = _refused(["import", "xsens", str(folder), "--map", MAP_ARG], capsys, tmp_path / "t.csv")
+    assert f"{foot} is {name} text, not UTF-8; save it as UTF-8" in err
+
+
+def test_a_file_without_read_permission_is_one_line(tmp_path, capsys, monkeypatch):
+    """chmod 000 does not stop root, so open() is made to refuse the file as it would for a user."""
+    csv_path, map_path = _csv_case(tmp_path)
+    folder = _export_dir(tmp_path)
+    foot = _foot_export(folder)
+
+    def denied(path, *args, **kwargs):
+        if str(path) in (str(csv_path), str(foot)):
+            raise PermissionError(13, "Permission denied", str(path))
+        return open(path, *args, **kwargs)
+
+    monkeypatch.setattr(text_file, "open", denied, raising=False)
+    with pytest.raises(UnreadableFileError) as e:
+        load_mapped_csv(csv_path, map_path)
+    assert e.value.path == str(csv_path)
+    err = _refused(["import", "csv", str(csv_path), "--mapping", str(map_path)], capsys, tmp_path / "t.csv")
+    assert err == (
+        f"lowerlimb: error: cannot read {csv_path} (permission denied); give yourself read access "
+        f"(chmod u+r {csv_path})\n"
+    )
+    err = _refused(["import", "xsens", str(folder), "--map", MAP_ARG], capsys, tmp_path / "t.csv")
+    assert f"cannot read {foot} (permission denied); give yourself read access (chmod u+r {foot})" in err
+    assert "Errno" not in err
 
 
 def test_mapped_csv_folder_and_mapping_folder(tmp_path, capsys):
@@ -340,3 +396,267 @@ def test_empty_last_time_cell_with_resampling_is_named(tmp_path):
     csv_path.write_text("\n".join(lines))
     with pytest.raises(NonFiniteValueError, match="'Timestamp' has a NaN or infinite value at data row 300"):
         load_mapped_csv(csv_path, map_path)
+
+
+# ------------------------------------------------------------------ Xsens cells and locales
+
+
+@pytest.mark.parametrize("written", ["inf", "nan", "-inf", "NaN"])
+@pytest.mark.parametrize("column", ["Acc_Y", "Gyr_Z", "Mag_X"])
+def test_xsens_written_inf_or_nan_is_refused_not_filled(tmp_path, capsys, written, column):
+    folder = _export_dir(tmp_path)
+    foot = _foot_export(folder)
+    lines = foot.read_text().splitlines()
+    header = lines[3].split(",")
+    cells = lines[50].split(",")
+    cells[header.index(column)] = written
+    lines[50] = ",".join(cells)
+    foot.write_text("\n".join(lines) + "\n")
+    message = (
+        f"{foot} line 51: {column} is '{written}', not a measured value; empty the cell (a missing "
+        f"sample, filled by interpolation) or remove the row"
+    )
+    with pytest.raises(InputError) as e:
+        load_xsens(folder, IDS)
+    assert str(e.value) == message
+    err = _refused(["import", "xsens", str(folder), "--map", MAP_ARG], capsys, tmp_path / "t.csv")
+    assert err == f"lowerlimb: error: {message}\n"
+
+
+def test_xsens_empty_cell_is_still_a_filled_packet_and_nan_counter_is_refused(tmp_path):
+    folder = _export_dir(tmp_path, foot={"empty_acc": {1050}})
+    assert load_xsens(folder, IDS).filled["foot"] == 1
+    foot = _foot_export(folder)
+    lines = foot.read_text().splitlines()
+    lines[9] = "nan" + lines[9][lines[9].index(",") :]
+    foot.write_text("\n".join(lines))
+    with pytest.raises(
+        InputError, match="line 10: PacketCounter is 'nan', not a measured value; fix or remove"
+    ):
+        load_xsens(folder, IDS)
+
+
+def _localised(path, delimiter):
+    """Rewrite an export as a decimal-comma locale writes it: ``delimiter`` between cells, ',' in numbers."""
+    out = []
+    for line in path.read_text().splitlines():
+        if line.startswith("//"):
+            out.append(line.replace("100.0Hz", "100,0Hz"))
+        else:
+            out.append(line.replace(",", delimiter).replace(".", ","))
+    path.write_text("\n".join(out) + "\n")
+
+
+@pytest.mark.parametrize("delimiter", [";", "\t"])
+def test_xsens_decimal_comma_export_is_read(tmp_path, delimiter):
+    plain = load_xsens(_export_dir(tmp_path / "a"), IDS)
+    folder = _export_dir(tmp_path / "b")
+    for p in folder.iterdir():
+        _localised(p, delimiter)
+    assert "100,0Hz" in _foot_export(folder).read_text()
+    rec = load_xsens(folder, IDS)
+    np.testing.assert_array_equal(rec.time_s, plain.time_s)
+    for s in SENSORS:
+        np.testing.assert_array_equal(rec.acc[s], plain.acc[s])
+        np.testing.assert_array_equal(rec.gyr[s], plain.gyr[s])
+        np.testing.assert_array_equal(rec.mag[s], plain.mag[s])
+
+
+def test_xsens_decimal_comma_mixed_with_a_point_is_refused(tmp_path):
+    folder = _export_dir(tmp_path)
+    foot = _foot_export(folder)
+    _localised(foot, ";")
+    lines = foot.read_text().splitlines()
+    cells = lines[20].split(";")
+    cells[2] = cells[2].replace(",", ".")
+    lines[20] = ";".join(cells)
+    foot.write_text("\n".join(lines))
+    with pytest.raises(InputError, match=r"line 21: Acc_X is '-?0\.\d+', with '.' although the file's other"):
+        load_xsens(folder, IDS)
+
+
+def test_xsens_update_rate_with_a_decimal_comma(tmp_path):
+    folder = _export_dir(tmp_path)
+    foot = _foot_export(folder)
+    foot.write_text(foot.read_text().replace("// Update Rate: 100.0Hz", "// Update Rate: 100,0Hz"))
+    assert load_xsens(folder, IDS).n_samples == 400
+
+
+def test_xsens_column_names_in_any_case(tmp_path, capsys):
+    plain = load_xsens(_export_dir(tmp_path / "a"), IDS)
+    folder = _export_dir(tmp_path / "b")
+    foot = _foot_export(folder)
+    lines = foot.read_text().splitlines()
+    lines[3] = lines[3].lower()
+    foot.write_text("\n".join(lines))
+    rec = load_xsens(folder, IDS)
+    np.testing.assert_array_equal(rec.acc["foot"], plain.acc["foot"])
+    np.testing.assert_array_equal(rec.mag["foot"], plain.mag["foot"])
+    foot.write_text(foot.read_text().replace("gyr_z", "gyr_w"))
+    err = _refused(["import", "xsens", str(folder), "--map", MAP_ARG], capsys, tmp_path / "t.csv")
+    assert f"{foot} has no column 'Gyr_Z'" in err and "mapping" not in err
+    assert "export the recording again from MT Manager with PacketCounter, Acc and Gyr enabled" in err
+
+
+def test_xsens_comma_in_a_column_not_read_leaves_the_decimal_point(tmp_path):
+    plain = load_xsens(_export_dir(tmp_path / "a"), IDS)
+    folder = _export_dir(tmp_path / "b")
+    foot = _foot_export(folder)
+    text = foot.read_text().splitlines()
+    lines = [line if line.startswith("//") else line.replace(",", "\t") for line in text]
+    lines[3] += "\tNote"
+    lines[4:] = [line + "\twalk, slow" for line in lines[4:]]
+    foot.write_text("\n".join(lines))
+    np.testing.assert_array_equal(load_xsens(folder, IDS).acc["foot"], plain.acc["foot"])
+
+
+# ------------------------------------------------------------------ a wrong unit of the mapping names it
+
+
+def _time_case(tmp_path, values, unit, **over):
+    """A vendor CSV whose Timestamp column holds ``values`` and a mapping declaring them ``unit``."""
+    _vendor_csv(tmp_path / "v.csv", np.asarray(values, dtype=float))
+    path = tmp_path / "map.json"
+    path.write_text(json.dumps(_mapping(time={"column": "Timestamp", "unit": unit}, **over)))
+    return tmp_path / "v.csv", path
+
+
+@pytest.mark.parametrize(
+    "values, unit, message",
+    [
+        (
+            np.arange(0, 3000, 10.0),  # ms declared s
+            "s",
+            "time steps of 10 s give a rate of 0.1 Hz, slower than the 5 Hz a trial may have; if the "
+            'time column is in ms, set "unit": "ms" in the mapping\'s "time" (a rate of 100 Hz)',
+        ),
+        (
+            1.7e18 + np.arange(0, 3e9, 1e7),  # epoch nanoseconds declared ms
+            "ms",
+            "time steps of 1e+07 ms give a rate of 0.0001 Hz, slower than the 5 Hz a trial may have; if "
+            'the time column is in ns, set "unit": "ns" in the mapping\'s "time" (a rate of 100 Hz)',
+        ),
+        (
+            np.arange(0, 30000, 100.0),  # 10 Hz in ms, 10 kHz in us: no unit gives a trial's rate
+            "s",
+            "time steps of 100 s give a rate of 0.01 Hz, slower than the 5 Hz a trial may have; "
+            'check the "unit" of the mapping\'s "time" (s, ms, us or ns), or map a column of times',
+        ),
+    ],
+)
+def test_time_unit_too_slow_names_the_mapping_unit(tmp_path, capsys, values, unit, message):
+    csv_path, map_path = _time_case(tmp_path, values, unit)
+    with pytest.raises(UnitError) as e:
+        load_mapped_csv(csv_path, map_path)
+    assert str(e.value) == message and e.value.signal == "time.unit"
+    err = _refused(["import", "csv", str(csv_path), "--mapping", str(map_path)], capsys, tmp_path / "t.csv")
+    assert err == f"lowerlimb: error: {message}\n" and "divide" not in err
+    # resampling does not turn it into a gap of 10 s
+    with pytest.raises(UnitError, match="slower than the 5 Hz"):
+        load_mapped_csv(csv_path, _mapping(time={"column": "Timestamp", "unit": unit}, resample_hz=100))
+
+
+def test_sample_numbers_declared_s_say_to_map_times(tmp_path):
+    csv_path, map_path = _time_case(tmp_path, np.arange(300.0), "s")
+    with pytest.raises(
+        UnitError, match='set "unit": "ms" .*; if it holds sample numbers, map a column of times'
+    ):
+        load_mapped_csv(csv_path, map_path)
+
+
+def _scaled_csv(tmp_path, gyr_factor=1.0, acc_factor=1.0):
+    """The vendor CSV with the pelvis gyro (deg/s) and accelerometer (g) columns multiplied."""
+    csv_path, _ = _csv_case(tmp_path)
+    lines = csv_path.read_text().splitlines()
+    header = lines[0].split(";")
+    out = [lines[0]]
+    for line in lines[1:]:
+        cells = line.split(";")
+        for c, f in ((0, acc_factor), (1, acc_factor), (2, acc_factor), (3, gyr_factor)):
+            i = header.index(f"pelvis.{'ag'[c // 3]}{'xyzx'[c]}")
+            cells[i] = f"{float(cells[i].replace(',', '.')) * f:.6f}".replace(".", ",")
+        out.append(";".join(cells))
+    csv_path.write_text("\n".join(out) + "\n")
+    return csv_path
+
+
+def test_gyro_unit_rad_s_for_deg_s_data_names_the_mapping(tmp_path, capsys):
+    csv_path = _scaled_csv(tmp_path, gyr_factor=5.0)  # pelvis gyro up to 150 deg/s
+    m = _mapping()
+    m["sensors"]["pelvis"]["gyr"]["unit"] = "rad/s"
+    (tmp_path / "rads.json").write_text(json.dumps(m))
+    message = (
+        "pelvis gyro values up to 150 rad/s are beyond a gyro's range (35 rad/s) and look like deg/s; "
+        'set "unit": "deg/s" in the mapping\'s pelvis "gyr"'
+    )
+    with pytest.raises(UnitError) as e:
+        load_mapped_csv(csv_path, m)
+    assert str(e.value) == message and e.value.signal == "sensors.pelvis.gyr.unit"
+    argv = ["import", "csv", str(csv_path), "--mapping", str(tmp_path / "rads.json")]
+    err = _refused(argv, capsys, tmp_path / "t.csv")
+    assert err == f"lowerlimb: error: {message}\n" and "multiply" not in err
+    x = read_mapped_csv(csv_path, _mapping()).gyr["pelvis"][:, 0]
+    assert x.max() == pytest.approx(np.deg2rad(149.5))
+
+
+def test_acc_unit_m_s2_for_g_data_names_the_mapping(tmp_path):
+    csv_path, _ = _csv_case(tmp_path)
+    m = _mapping()
+    m["sensors"]["shank"]["acc"]["unit"] = "m/s^2"
+    with pytest.raises(
+        UnitError, match=r"shank accelerometer median magnitude 1.0\d m/s\^2 is too small"
+    ) as e:
+        load_mapped_csv(csv_path, m)
+    assert str(e.value).endswith('looks like g; set "unit": "g" in the mapping\'s shank "acc"')
+    assert e.value.signal == "sensors.shank.acc.unit"
+
+
+# ------------------------------------------------------------------ import csv as strict as the trial reader
+
+
+def test_mapped_csv_interrupted_last_row_is_refused(tmp_path, capsys):
+    csv_path, map_path = _csv_case(tmp_path)
+    text = csv_path.read_text()
+    csv_path.write_text(text[: text.rstrip("\n").rindex(";") - 3])  # the row cut inside a number
+    width = len(text.splitlines()[0].split(";"))
+    message = (
+        f"{csv_path}: the last data row 300 has {width - 1} of {width} values: an interrupted "
+        f"recording? delete that row"
+    )
+    with pytest.raises(InputError) as e:
+        load_mapped_csv(csv_path, map_path)
+    assert str(e.value) == message
+    err = _refused(["import", "csv", str(csv_path), "--mapping", str(map_path)], capsys, tmp_path / "t.csv")
+    assert err == f"lowerlimb: error: {message}\n" and "magnetometer" not in err
+
+
+def test_mapped_csv_rows_all_shorter_than_the_header_are_read(tmp_path):
+    """A writer that leaves out trailing empty cells: not an interrupted recording."""
+    csv_path, map_path = _csv_case(tmp_path)
+    lines = csv_path.read_text().splitlines()
+    lines[0] += ";Note"
+    csv_path.write_text("\n".join(lines) + "\n")
+    assert read_mapped_csv(csv_path, map_path).n_samples == 300
+
+
+def test_mapped_csv_column_twice_in_the_header_is_refused_when_mapped(tmp_path, capsys):
+    csv_path, map_path = _csv_case(tmp_path)
+    lines = csv_path.read_text().splitlines()
+    header = lines[0].split(";")
+    k = header.index("thigh.ax")
+    lines = [";".join([*c[:4], c[k], *c[4:]]) for c in (line.split(";") for line in lines)]
+    csv_path.write_text("\n".join(lines) + "\n")
+    message = (
+        f"{csv_path} has the column 'thigh.ax' 2 times in its header (columns 5 and {k + 2}); the "
+        f"mapping reads columns by name, so rename or delete all but one"
+    )
+    with pytest.raises(InputError) as e:
+        load_mapped_csv(csv_path, map_path)
+    assert str(e.value) == message
+    err = _refused(["import", "csv", str(csv_path), "--mapping", str(map_path)], capsys, tmp_path / "t.csv")
+    assert err == f"lowerlimb: error: {message}\n"
+    # a repeated column the mapping does not read is no concern
+    lines = [";".join([*c[:2], "x", *c[2:]]) for c in (line.split(";") for line in lines)]
+    lines[0] = lines[0].replace("thigh.ax", "unused", 1).replace(";x;", ";unused;", 1)
+    csv_path.write_text("\n".join(lines) + "\n")
+    assert read_mapped_csv(csv_path, map_path).n_samples == 300

@@ -26,16 +26,20 @@ class SensorFileError(InputError):
 
 
 class ColumnNotFoundError(InputError):
-    """A vendor file lacks a column the mapping or the format requires."""
+    """A vendor file lacks a column the mapping or the format requires.
 
-    def __init__(self, column: str, available: Sequence[str], path: str) -> None:
+    ``fix`` replaces the default advice (export the column, or fix its name in the mapping),
+    e.g. for a format that has no mapping.
+    """
+
+    def __init__(self, column: str, available: Sequence[str], path: str, fix: str | None = None) -> None:
         self.column = column
         self.available = list(available)
         self.path = path
         shown = ", ".join(self.available[:20]) + (", …" if len(self.available) > 20 else "")
         super().__init__(
             f"{path} has no column '{column}' (it has: {shown}); "
-            f"export it from the vendor software or fix the column name in the mapping"
+            f"{fix or 'export it from the vendor software or fix the column name in the mapping'}"
         )
 
 
@@ -79,13 +83,26 @@ class NotTextError(InputError):
     Attributes:
         path: the file.
         problem: ``"folder"``, ``"special"`` (a device or pipe), ``"binary"`` or ``"encoding"``.
-        offset: for ``"encoding"``, the byte offset of the first byte that is not UTF-8; else None.
+        offset: for ``"encoding"``, the byte offset of the first byte that is not UTF-8 (0 for
+            UTF-16 or UTF-32 text, named by its byte-order mark); else None.
     """
 
     def __init__(self, path: str, problem: str, message: str, offset: int | None = None) -> None:
         self.path = path
         self.problem = problem
         self.offset = offset
+        super().__init__(message)
+
+
+class UnreadableFileError(InputError):
+    """A file the user may not read (permission denied).
+
+    Attributes:
+        path: the file.
+    """
+
+    def __init__(self, path: str, message: str) -> None:
+        self.path = path
         super().__init__(message)
 
 

@@ -19,7 +19,15 @@ Choices:
   unit that makes the source clock faster than
   :attr:`InputBounds.rate_hz <lowerlimb.io.bounds.InputBounds.rate_hz>` allows
   is refused as a wrong ``time.unit`` (ms data declared ``us``) when the trial
-  is not resampled or would be too short; the message names the unit that fits.
+  is not resampled or would be too short; one that makes it slower than
+  :data:`~lowerlimb.io.trial.MIN_RATE_HZ` (ms data declared ``s``, epoch ns
+  declared ``ms``) is refused too. A gyro unit that puts the gyro beyond
+  :data:`~lowerlimb.conventions.MAX_GYRO_RAD_S` (deg/s data declared ``rad/s``)
+  or an accelerometer unit that puts its median magnitude below
+  :data:`~lowerlimb.conventions.MIN_MEDIAN_ACC_MPS2` (g data declared ``m/s^2``)
+  is refused when another unit of the mapping fits (:func:`check_signal_units`).
+  Each message names the unit that fits and says to set it in the mapping, as
+  the data are right and the mapping is not.
 """
 
 from __future__ import annotations
@@ -32,9 +40,9 @@ from typing import Any
 
 import numpy as np
 
-from lowerlimb.conventions import FloatArray
+from lowerlimb.conventions import MAX_GYRO_RAD_S, MIN_MEDIAN_ACC_MPS2, FloatArray
 from lowerlimb.errors import InputError, NonFiniteValueError, TooShortError, UnitError
-from lowerlimb.io.trial import MIN_DURATION_S, ImuTrial, unreadable_csv
+from lowerlimb.io.trial import MIN_DURATION_S, MIN_RATE_HZ, ImuTrial, unreadable_csv
 
 from .bounds import INPUT_BOUNDS
 from .csv_mapping import CsvMapping
@@ -45,7 +53,7 @@ from .recording import ImportedRecording
 from .text_file import read_text
 from .time_axis import require_increasing
 from .uneven_clock import ClockParams, to_uniform_clock
-from .units import QUANTITY_UNITS, TIME_UNITS
+from .units import ACC_UNITS, GYR_UNITS, QUANTITY_UNITS, TIME_UNITS
 
 
 def _as_mapping(mapping: CsvMapping | Mapping[str, Any] | str | os.PathLike[str]) -> CsvMapping:
@@ -61,7 +69,8 @@ def _read_columns(path: str, m: CsvMapping, names: list[str]) -> FloatArray:
 
     Raises:
         NotTextError: a folder, a binary file or non-UTF-8 text.
-        InputError: an empty file, a cell the csv module cannot read, or a non-numeric cell.
+        InputError: an empty file, a cell the csv module cannot read, a non-numeric cell, a
+            named column the header holds twice, or a last row cut short (an interrupted recording).
         ColumnNotFoundError: a name not in the header.
     """
     text = read_text(path, "a CSV file", export_fix="export the recording as CSV text")
@@ -79,6 +88,13 @@ def _read_columns(path: str, m: CsvMapping, names: list[str]) -> FloatArray:
     for n in names:
         if n not in header:
             raise ColumnNotFoundError(n, header, path)
+        if header.count(n) > 1:
+            at = " and ".join(str(i + 1) for i, h in enumerate(header) if h == n)
+            raise InputError(
+                f"{path} has the column {n!r} {header.count(n)} times in its header (columns {at}); "
+                f"the mapping reads columns by name, so rename or delete all but one"
+            )
+    _refuse_interrupted_last_row(path, rows)
     idx = [header.index(n) for n in names]
     out = np.full((len(rows) - 1, len(names)), np.nan)
     for r, row in enumerate(rows[1:]):
@@ -96,24 +112,44 @@ def _read_columns(path: str, m: CsvMapping, names: list[str]) -> FloatArray:
     return out
 
 
-def check_time_unit(time_s: FloatArray, m: CsvMapping) -> None:
-    """Refuse a ``time.unit`` that makes the source clock implausibly fast (ms data declared ``us``).
+def _refuse_interrupted_last_row(path: str, rows: list[list[str]]) -> None:
+    """Refuse a last row shorter than the header when the row before it is not (a recording cut off).
 
-    The clock is refused when its median step gives a rate above
-    :attr:`InputBounds.rate_hz <lowerlimb.io.bounds.InputBounds.rate_hz>` and the
-    trial is either not resampled or shorter than :data:`MIN_DURATION_S` (a fast
-    source resampled to a plausible rate is fine).
+    Rows that are all short (a writer that leaves out trailing empty cells) are not refused.
+
+    Raises:
+        InputError: naming the row, its number of values and the header's.
+    """
+    width = len(rows[0])
+    if len(rows) >= 2 and len(rows[-1]) < width and (len(rows) == 2 or len(rows[-2]) >= width):
+        raise InputError(
+            f"{path}: the last data row {len(rows) - 1} has {len(rows[-1])} of {width} values: an "
+            f"interrupted recording? delete that row"
+        )
+
+
+def check_time_unit(time_s: FloatArray, m: CsvMapping) -> None:
+    """Refuse a ``time.unit`` that makes the source clock implausibly fast or slow.
+
+    The clock is refused when its median step gives a rate below :data:`MIN_RATE_HZ`
+    (ms data declared ``s``, epoch nanoseconds declared ``ms``), or above
+    :attr:`InputBounds.rate_hz <lowerlimb.io.bounds.InputBounds.rate_hz>` while the
+    trial is either not resampled or shorter than :data:`MIN_DURATION_S` (ms data
+    declared ``us``; a fast source resampled to a plausible rate is fine).
 
     Args:
         time_s: (N,) source times converted with ``m.time_unit``, s, starting at 0.
         m: the mapping (its ``time_unit`` and ``resample_hz``).
 
     Raises:
-        UnitError: naming ``time.unit``, the rate it gives, and the unit that fits when one does.
+        UnitError: naming ``time.unit``, the rate it gives, and the unit to set in the
+            mapping when one gives a rate within ``InputBounds.rate_hz``.
     """
     steps = np.diff(time_s)
     med = float(np.median(steps)) if steps.size else 0.0
     lo, hi = INPUT_BOUNDS.rate_hz
+    if med > 1.0 / MIN_RATE_HZ:
+        _slow_time_unit(med, m)
     if not med > 0 or 1.0 / med <= hi:
         return
     duration = float(time_s[-1])
@@ -137,6 +173,77 @@ def check_time_unit(time_s: FloatArray, m: CsvMapping) -> None:
         f"time steps of {raw_step:.4g} {m.time_unit} give a rate of {1.0 / med:.4g} Hz and a "
         f"{duration:.3g} s trial, faster than the {hi:g} Hz a trial may have; {fix}",
     )
+
+
+def _slow_time_unit(med: float, m: CsvMapping) -> None:
+    """Refuse a clock whose median step ``med`` (s) is too long, naming the shorter unit that fits."""
+    raw_step = med / TIME_UNITS[m.time_unit]
+    lo, hi = INPUT_BOUNDS.rate_hz
+    shorter = sorted(
+        ((u, f) for u, f in TIME_UNITS.items() if f < TIME_UNITS[m.time_unit]), key=lambda uf: -uf[1]
+    )
+    fits = [(u, 1.0 / (raw_step * f)) for u, f in shorter if lo <= 1.0 / (raw_step * f) <= hi]
+    fix = (
+        f'if the time column is in {fits[0][0]}, set "unit": "{fits[0][0]}" in the mapping\'s "time" '
+        f"(a rate of {fits[0][1]:.4g} Hz)"
+        if fits
+        else 'check the "unit" of the mapping\'s "time" (s, ms, us or ns), or map a column of times'
+    )
+    numbers = "; if it holds sample numbers, map a column of times instead" if raw_step == 1 and fits else ""
+    raise UnitError(
+        "time.unit",
+        1.0 / med,
+        f"time steps of {raw_step:.4g} {m.time_unit} give a rate of {1.0 / med:.4g} Hz, slower than the "
+        f"{MIN_RATE_HZ:g} Hz a trial may have; {fix}{numbers}",
+    )
+
+
+def check_signal_units(acc: Mapping[str, FloatArray], gyr: Mapping[str, FloatArray], m: CsvMapping) -> None:
+    """Refuse a gyro or accelerometer unit of the mapping that another of its units would fix.
+
+    The checks are those of ``ImuTrial.validate`` (a gyro beyond :data:`MAX_GYRO_RAD_S`,
+    an accelerometer median magnitude below :data:`MIN_MEDIAN_ACC_MPS2`), made here
+    where the fix is known: the data are right and the mapping's ``unit`` is not.
+    Anything no other unit fixes is left to ``ImuTrial.validate``.
+
+    Args:
+        acc: ``{sensor: (N, 3)}`` specific force converted with the mapping's unit, m/s².
+        gyr: ``{sensor: (N, 3)}`` angular velocity converted with the mapping's unit, rad/s.
+        m: the mapping.
+
+    Raises:
+        UnitError: naming the sensor, its values in the declared unit, and the unit to set.
+    """
+    for sensor, quantities in m.sensors.items():
+        unit = quantities["gyr"].unit
+        peak = float(np.max(np.linalg.norm(gyr[sensor], axis=1)))  # rad/s
+        if peak > MAX_GYRO_RAD_S:
+            raw = peak / GYR_UNITS[unit]
+            for other, f in GYR_UNITS.items():
+                if f != GYR_UNITS[unit] and raw * f <= MAX_GYRO_RAD_S:
+                    raise UnitError(
+                        f"sensors.{sensor}.gyr.unit",
+                        peak,
+                        f"{sensor} gyro values up to {raw:.0f} {unit} are beyond a gyro's range "
+                        f'({MAX_GYRO_RAD_S:g} rad/s) and look like {other}; set "unit": "{other}" '
+                        f'in the mapping\'s {sensor} "gyr"',
+                    )
+        unit = quantities["acc"].unit
+        median = float(np.median(np.linalg.norm(acc[sensor], axis=1)))  # m/s²
+        if median < MIN_MEDIAN_ACC_MPS2:
+            raw = median / ACC_UNITS[unit]
+            for other, f in ACC_UNITS.items():
+                if (
+                    f != ACC_UNITS[unit]
+                    and MIN_MEDIAN_ACC_MPS2 <= raw * f <= INPUT_BOUNDS.max_median_acc_mps2
+                ):
+                    raise UnitError(
+                        f"sensors.{sensor}.acc.unit",
+                        median,
+                        f"{sensor} accelerometer median magnitude {raw:.3g} {unit} is too small for "
+                        f'gravity and looks like {other}; set "unit": "{other}" in the mapping\'s '
+                        f'{sensor} "acc"',
+                    )
 
 
 def resample_uniform(
@@ -193,10 +300,13 @@ def load_mapped_csv(
         MappingError: a bad mapping field.
         ColumnNotFoundError: a mapped column is not in the CSV header.
         NotTextError: the CSV (or the mapping file) is a folder, a binary file or not UTF-8.
-        UnitError: a ``time.unit`` that makes the clock implausibly fast (:func:`check_time_unit`).
+        UnitError: a ``time.unit`` that makes the clock implausibly fast or slow
+            (:func:`check_time_unit`), or a gyro or accelerometer unit that another unit would
+            fix (:func:`check_signal_units`).
         NonFiniteValueError: an empty or non-finite time cell, or bad samples when resampling.
         TimeAxisError, PacketGapError: bad time when resampling.
-        InputError: an empty file or a non-numeric cell.
+        InputError: an empty file, a non-numeric cell, a mapped column twice in the header, or a
+            last row cut short.
     """
     params = params or ImportParams()
     m = _as_mapping(mapping)
@@ -230,6 +340,7 @@ def load_mapped_csv(
     for k, (sensor, q) in enumerate(layout):
         factor = QUANTITY_UNITS[q][m.sensors[sensor][q].unit]
         signals[q][sensor] = np.ascontiguousarray(data[:, 3 * k : 3 * k + 3] * factor)
+    check_signal_units(signals["acc"], signals["gyr"], m)
     return ImportedRecording(
         time_s=t,
         acc=signals["acc"],

@@ -2,16 +2,21 @@
 
 The vendor importers read their files through :func:`read_text`, so that a wrong file
 is one :class:`~lowerlimb.io.errors.NotTextError` naming the file and the fix, never
-a ``UnicodeDecodeError`` or ``IsADirectoryError``.
+a ``UnicodeDecodeError`` or ``IsADirectoryError``; a file the user may not read is one
+:class:`~lowerlimb.io.errors.UnreadableFileError`, never a ``PermissionError``.
+
+UTF-16 and UTF-32 text (a byte-order mark first, e.g. Excel's "Unicode Text") is refused
+by name rather than decoded: every file the library reads is UTF-8, and the trial CSV
+the importers write is UTF-8 too.
 """
 
 from __future__ import annotations
 
 import os
 
-from .errors import NotTextError
+from .errors import NotTextError, UnreadableFileError
 
-__all__ = ["BINARY_MAGIC", "read_text"]
+__all__ = ["BINARY_MAGIC", "WIDE_TEXT_BOMS", "read_text"]
 
 #: The first bytes of files that are not text: gzip, zip, xlsx (zip), 7z, bzip2, xz.
 BINARY_MAGIC: dict[bytes, str] = {
@@ -20,6 +25,13 @@ BINARY_MAGIC: dict[bytes, str] = {
     b"7z\xbc\xaf": "a 7-Zip archive",
     b"BZh": "bzip2-compressed",
     b"\xfd7zXZ": "xz-compressed",
+}
+#: Byte-order marks of text that is not UTF-8 (UTF-32 first: its little-endian mark starts as UTF-16's).
+WIDE_TEXT_BOMS: dict[bytes, str] = {
+    b"\xff\xfe\x00\x00": "UTF-32",
+    b"\x00\x00\xfe\xff": "UTF-32",
+    b"\xff\xfe": "UTF-16",
+    b"\xfe\xff": "UTF-16",
 }
 #: Bytes of the file's start searched for a NUL byte (text never holds one).
 _SNIFF_BYTES = 65536
@@ -44,8 +56,10 @@ def read_text(
 
     Raises:
         NotTextError: ``path`` is a folder (or not a regular file), starts like a binary or
-            compressed file, holds a NUL byte, or is not UTF-8 (the message gives the first
-            bad byte, its offset and line, and says to save the file as UTF-8).
+            compressed file, is UTF-16 or UTF-32 text (a byte-order mark first), holds a NUL
+            byte, or is not UTF-8 (the message gives the first bad byte, its offset and line,
+            and says to save the file as UTF-8).
+        UnreadableFileError: the user may not read ``path`` (permission denied).
     """
     if os.path.isdir(path):
         raise NotTextError(path, "folder", f"{path} is a folder, not {what}; {folder_fix}")
@@ -53,8 +67,23 @@ def read_text(
         raise NotTextError(
             path, "special", f"{path} is not a regular file (a device or a pipe), not {what}; give a file"
         )
-    with open(path, "rb") as f:
-        raw = f.read()
+    try:
+        with open(path, "rb") as f:
+            raw = f.read()
+    except PermissionError:
+        raise UnreadableFileError(
+            path,
+            f"cannot read {path} (permission denied); give yourself read access (chmod u+r {path})",
+        ) from None
+    for bom, encoding in WIDE_TEXT_BOMS.items():
+        if raw.startswith(bom):
+            raise NotTextError(
+                path,
+                "encoding",
+                f"{path} is {encoding} text, not UTF-8; save it as UTF-8 (in the software that wrote it, "
+                f"or a text editor)",
+                offset=0,
+            )
     for magic, kind in BINARY_MAGIC.items():
         if raw.startswith(magic):
             raise NotTextError(path, "binary", f"{path} is {kind}, not {what}; decompress it or {export_fix}")

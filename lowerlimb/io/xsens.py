@@ -1,13 +1,15 @@
 """Read Xsens MT Manager text exports (one file per sensor) into a trial.
 
 Format: lines starting with ``//`` are comments, one of them
-``// Update Rate: 100.0Hz``; then a header such as
+``// Update Rate: 100.0Hz`` (or ``100,0Hz``); then a header such as
 ``PacketCounter,SampleTimeFine,Acc_X,Acc_Y,Acc_Z,Gyr_X,Gyr_Y,Gyr_Z,Mag_X,Mag_Y,Mag_Z,Quat_q0,…``
 (comma, tab or semicolon separated) and one row per packet. Columns are found
-by name: ``PacketCounter``, ``Acc_X..Z`` (m/s², specific force) and
+by name, in any letter case: ``PacketCounter``, ``Acc_X..Z`` (m/s², specific force) and
 ``Gyr_X..Z`` (rad/s) are required, ``Mag_X..Z`` is optional; other columns
-are ignored. The file of a sensor is the one whose name contains its ID
-(e.g. ``S02-Trial-Walk-1-000_00B40B91.txt``).
+are ignored. A semicolon- or tab-separated export whose numbers hold a comma uses the
+comma as decimal mark (a locale's export, ``3,148749``); every number of such a file
+must then use it (a ``.`` in one is refused as a mix). The file of a sensor is the one
+whose name contains its ID (e.g. ``S02-Trial-Walk-1-000_00B40B91.txt``).
 
 Choices:
 
@@ -15,7 +17,8 @@ Choices:
   wrap), and the sensors are aligned on the packets they all recorded. Each
   sensor's counter is placed within half a wrap of the first sensor's.
 - A packet missing from a sensor (no row, or an empty Acc/Gyr cell) is filled
-  by linear interpolation between its neighbours. A run of missing packets
+  by linear interpolation between its neighbours; a cell that reads ``nan`` or
+  ``inf`` is not a missing packet but a corrupt value, refused naming the line. A run of missing packets
   longer than :attr:`ImportParams.max_gap_s` is refused; a warning is issued
   when more than :attr:`ImportParams.warn_fill_fraction` of the samples were
   filled. Empty Mag cells (a magnetometer sampled below the update rate) are
@@ -34,6 +37,7 @@ Choices:
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import warnings
@@ -60,7 +64,9 @@ MAX_COUNTER = 2**32 - 1
 #: Extensions of MT Manager text exports.
 EXPORT_SUFFIXES = (".txt", ".csv")
 
-_RATE = re.compile(r"update\s*rate\s*:\s*([0-9]*\.?[0-9]+)\s*hz", re.IGNORECASE)
+_RATE = re.compile(r"update\s*rate\s*:\s*([0-9]*[.,]?[0-9]+)\s*hz", re.IGNORECASE)
+#: What to do about a required column that is missing (an MT Manager export has no mapping).
+_COLUMN_FIX = "export the recording again from MT Manager with PacketCounter, Acc and Gyr enabled"
 
 
 class FilledPacketsWarning(UserWarning):
@@ -125,27 +131,57 @@ def find_sensor_file(directory: Path, sensor_id: str) -> Path:
     return hits[0]
 
 
+def _index(header: list[str]) -> dict[str, int]:
+    """``{column name in lower case: index}`` of ``header`` (the first of names equal but for case)."""
+    index: dict[str, int] = {}
+    for i, h in enumerate(header):
+        index.setdefault(h.lower(), i)
+    return index
+
+
 def _columns(header: list[str], names: list[str]) -> list[int] | None:
-    """Indices of ``names`` in ``header``, or None when any is absent."""
-    index = {h: i for i, h in enumerate(header)}
-    return [index[n] for n in names] if all(n in index for n in names) else None
+    """Indices of ``names`` in ``header`` (any letter case), or None when any is absent."""
+    index = _index(header)
+    return [index[n.lower()] for n in names] if all(n.lower() in index for n in names) else None
 
 
 def _required(header: list[str], names: list[str], path: str) -> list[int]:
+    index = _index(header)
     for n in names:
-        if n not in header:
-            raise ColumnNotFoundError(n, header, path)
-    return [header.index(n) for n in names]
+        if n.lower() not in index:
+            raise ColumnNotFoundError(n, header, path, fix=_COLUMN_FIX)
+    return [index[n.lower()] for n in names]
 
 
-def _cell(cells: list[str], i: int, column: str, where: str) -> float:
+def _cell(cells: list[str], i: int, column: str, where: str, comma_decimal: bool) -> float:
+    """One cell as a number; NaN for an empty one (a missing packet or Mag sample).
+
+    Raises:
+        InputError: text that is not a number, a written ``nan`` or ``inf``, or a ``.`` in a
+            file whose decimal mark is ``,`` (``comma_decimal``).
+    """
     text = cells[i].strip() if i < len(cells) else ""
     if not text:
         return np.nan
+    if comma_decimal:
+        if "." in text:
+            raise InputError(
+                f"{where}: {column} is {text!r}, with '.' although the file's other numbers use ',' as "
+                f"decimal mark; export it again from MT Manager with one decimal mark"
+            )
+        text = text.replace(",", ".")
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
         raise InputError(f"{where}: {column} is not a number ({text!r}); fix or remove the row") from None
+    if not math.isfinite(value):
+        fix = (
+            "fix or remove the row"
+            if column.lower() == "packetcounter"
+            else "empty the cell (a missing sample, filled by interpolation) or remove the row"
+        )
+        raise InputError(f"{where}: {column} is {cells[i].strip()!r}, not a measured value; {fix}")
+    return value
 
 
 def parse_xsens_export(path: str | os.PathLike[str]) -> XsensExport:
@@ -181,13 +217,19 @@ def parse_xsens_export(path: str | os.PathLike[str]) -> XsensExport:
         + _required(header, ["Gyr_X", "Gyr_Y", "Gyr_Z"], path)
         + (i_mag or [])
     )
+    data_rows = [
+        (k, line.split(delim))
+        for k, line in enumerate(lines[body + 1 :], start=body + 2)
+        if line.strip() and not line.startswith("//")
+    ]
+    # the decimal mark is ',' when a cell read holds one (never with ',' between cells)
+    comma_decimal = delim != "," and any(
+        "," in cells[i] for _, cells in data_rows for i in wanted if i < len(cells)
+    )
     rows = []
     line_no = []
-    for k, line in enumerate(lines[body + 1 :], start=body + 2):
-        if not line.strip() or line.startswith("//"):
-            continue
-        cells = line.split(delim)
-        rows.append([_cell(cells, i, header[i], f"{path} line {k}") for i in wanted])
+    for k, cells in data_rows:
+        rows.append([_cell(cells, i, header[i], f"{path} line {k}", comma_decimal) for i in wanted])
         line_no.append(k)
     data = np.array(rows, dtype=float).reshape(-1, len(wanted))
     if not np.all(np.isfinite(data[:, 0])):
@@ -226,13 +268,13 @@ def parse_xsens_export(path: str | os.PathLike[str]) -> XsensExport:
 
 
 def _update_rate(path: str, comments: list[str]) -> float:
-    """The rate of the last ``// Update Rate: …Hz`` line of ``comments``, Hz.
+    """The rate of the last ``// Update Rate: …Hz`` line of ``comments`` (``.`` or ``,`` decimal), Hz.
 
     Raises:
         InputError: no such line, or a rate that is not positive or above the largest
             :attr:`InputBounds.rate_hz <lowerlimb.io.bounds.InputBounds.rate_hz>`.
     """
-    rates = [float(m.group(1)) for line in comments if (m := _RATE.search(line))]
+    rates = [float(m.group(1).replace(",", ".")) for line in comments if (m := _RATE.search(line))]
     if not rates:
         raise InputError(
             f"{path} has no '// Update Rate: …Hz' comment line; export with the header comments "
