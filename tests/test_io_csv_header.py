@@ -88,3 +88,29 @@ def test_a_magnetometer_in_another_unit_is_refused_not_dropped(one_leg: Path, tm
     ):
         ImuTrial.from_csv(path)
     assert not ImuTrial.from_csv(path, use_mag=False).has_mag
+
+
+def test_a_trial_the_user_may_not_read_is_one_line(
+    one_leg: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture
+) -> None:
+    import builtins
+
+    import lowerlimb.io.csv_header as csv_header
+
+    real_open = builtins.open
+
+    def denied(file, *args, **kwargs):  # type: ignore[no-untyped-def]
+        if str(file) == str(one_leg):
+            raise PermissionError(13, "Permission denied", str(file))
+        return real_open(file, *args, **kwargs)
+
+    monkeypatch.setattr(csv_header, "open", denied, raising=False)
+    assert main(["calibrate", str(one_leg), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "permission denied" in err[0] and "chmod u+r" in err[0]
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_device_is_not_called_missing(tmp_path: Path) -> None:
+    with pytest.raises(InputError, match="is not a regular file"):
+        ImuTrial.from_csv("/dev/null")

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 from lowerlimb.errors import InputError
 
+from .errors import UnreadableFileError
 from .text_file import BINARY_MAGIC
 
 __all__ = ["HeaderLine", "RaggedRow", "header_line", "is_skipped_line", "ragged_row"]
@@ -51,10 +52,16 @@ def header_line(path: str) -> HeaderLine:
     """The first line that is not blank, a ``#`` comment or Excel's ``sep=`` line.
 
     Raises:
-        InputError: a binary, compressed, UTF-16 or non-UTF-8 file, or one with no header line.
+        InputError: a binary, compressed, UTF-16 or non-UTF-8 file, or one with no header line;
+            :class:`~lowerlimb.io.errors.UnreadableFileError` for a file the user may not read.
     """
-    with open(path, "rb") as f:
-        head = f.read(_HEAD_BYTES)
+    try:
+        with open(path, "rb") as f:
+            head = f.read(_HEAD_BYTES)
+    except PermissionError:
+        raise UnreadableFileError(
+            path, f"cannot read {path} (permission denied); give yourself read access (chmod u+r {path})"
+        ) from None
     for magic, what in BINARY_MAGIC.items():
         if head.startswith(magic):
             raise InputError(f"{path} is {what}, not a trial CSV; decompress or export it as CSV text")

@@ -411,6 +411,8 @@ class ImuTrial(TimeAxis):
         path = os.fspath(path)
         if os.path.isdir(path):
             raise InputError(f"{path} is a directory, not a trial CSV; give the trial file inside it")
+        if os.path.exists(path) and not os.path.isfile(path):
+            raise InputError(f"{path} is not a regular file (a device or a pipe); give the trial CSV file")
         if not os.path.isfile(path):
             raise FileNotFoundError(f"trial file not found: {path}")
         header = _read_header(path)
