@@ -52,6 +52,7 @@ from ..segments.angle_range import ImplausibleAnglesWarning, implausible_angles
 from ..segments.tracking import track_segments
 from .gait import BilateralGait, analyse_gait
 from .hips import HipCheck, HipParams, HipSpacingWarning, check_hips
+from .leg_pairing import check_leg_pairing
 from .pelvis import OppositeKneesError, OppositeKneesWarning, PelvisParams, SharedPelvis, shared_pelvis
 
 __all__ = ["BilateralResult", "BilateralSideError", "process_bilateral_trial"]
@@ -401,7 +402,8 @@ def process_bilateral_trial(
 
     Raises:
         InputError: swapped columns (``BilateralSideError``, ``SensorOrderError`` with the
-            file's column names), or a leg's problem (prefixed with the leg).
+            file's column names, :class:`~lowerlimb.bilateral.leg_pairing.CrossedLegsError` for one
+            segment's sensors exchanged between the legs), or a leg's problem (prefixed with the leg).
 
     Warns:
         OppositeKneesWarning: the two knee axes point apart seen from the pelvis
@@ -410,6 +412,8 @@ def process_bilateral_trial(
         HipSpacingWarning: the two hip centres do not look like one pelvis.
         NoGaitWarning: the trial has no walking.
     """
+    if (calibration_options or CalibrationOptions()).check_sensor_order:
+        check_leg_pairing(trial)
     mag = _use_mag(trial, filter_name, use_mag)
     kwargs: dict[str, Any] = {
         "method": method,

@@ -105,7 +105,9 @@ class CalibrationOptions:
             (the swarms sample it; Hu 2021 use 0.2 m, too small for a hip seen
             from a mid-thigh sensor).
         check_sensor_order: refuse a trial whose thigh/shank or shank/foot columns
-            look swapped (:mod:`~lowerlimb.calibration.plausibility`).
+            look swapped (:mod:`~lowerlimb.calibration.plausibility`); with two legs, also one
+            whose left and right thigh, shank or foot columns do
+            (:mod:`~lowerlimb.bilateral.leg_pairing`).
         check_signs: refuse a trial in which a sensor turns about the vertical against
             its neighbours, the sign of an accelerometer or gyro inverted
             (:mod:`~lowerlimb.orientation.sign_check`; checked after the orientation filters).

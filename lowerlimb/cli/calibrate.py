@@ -64,7 +64,8 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
     p.add_argument(
         "--no-order-check",
         action="store_true",
-        help="do not refuse a trial whose thigh/shank or shank/foot columns look swapped",
+        help="do not refuse a trial whose thigh/shank or shank/foot columns look swapped "
+        "(with two legs, also a segment's left_* and right_* columns)",
     )
     p.add_argument(
         "--no-sign-check",
