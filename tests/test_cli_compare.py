@@ -1,5 +1,6 @@
 import csv
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -283,6 +284,39 @@ def test_compare_names_the_real_problem_of_a_header(case, words, tmp_path, capsy
     assert err.startswith("lowerlimb: error: ") and err.count("\n") == 1 and "Traceback" not in err
     assert all(w in err for w in words), err
     assert not out.exists()
+
+
+def test_compare_align_time_warns_in_one_line_when_strides_make_the_offset_ambiguous(tmp_path):
+    d = tmp_path / "cal"
+    d.mkdir()
+    t = np.arange(0, 30, 0.01)
+    rng = np.random.default_rng(7)
+    knots = np.arange(-10, 40, 1.1)
+
+    def walk(tt):  # a walk repeating each 1.1 s stride, its amplitude varying by stride (deg)
+        amp = np.interp(tt, knots, 1 + 0.1 * rng_amp)
+        phase = 2 * np.pi * tt / 1.1
+        return np.column_stack([(k + 1) * 5 * amp * np.sin(phase + k) for k in range(9)])
+
+    rng_amp = rng.standard_normal(knots.size)
+    write_angles_csv(d / "angles.csv", t, np.deg2rad(walk(t)))
+    t_true = np.arange(-8, 38, 0.01)
+    ref = tmp_path / "ref.csv"
+    _write_ref(ref, list(ANGLE_COLUMNS), _rows(t_true + 5.0, *walk(t_true).T))  # 5 s late: beyond ±2 s
+    with pytest.warns(UserWarning) as caught:  # the CLI prints each as one 'lowerlimb: warning:' line
+        assert main(["compare", str(d), str(ref), "--out", str(tmp_path / "o"), "--align-time"]) == 0
+    assert len(caught) == 1
+    text = str(caught[0].message)
+    assert "\n" not in text and "is ambiguous" in text and "align the reference by hand" in text
+    summary = json.loads((tmp_path / "o" / "agreement.json").read_text())
+    assert summary["time_alignment"]["ambiguous"] is True
+    _write_ref(ref, list(ANGLE_COLUMNS), _rows(t_true + 1.5, *walk(t_true).T))  # within ±2 s: found, clear
+    with warnings.catch_warnings(record=True) as caught:
+        assert main(["compare", str(d), str(ref), "--out", str(tmp_path / "o2"), "--align-time"]) == 0
+    assert not caught, [str(w.message) for w in caught]
+    summary = json.loads((tmp_path / "o2" / "agreement.json").read_text())
+    assert summary["time_offset_s"] == pytest.approx(-1.5, abs=0.002)
+    assert summary["time_alignment"]["ambiguous"] is False
 
 
 def test_compare_accepts_a_reference_that_covers_part_of_the_trial(tmp_path):
