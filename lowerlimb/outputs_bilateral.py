@@ -282,8 +282,9 @@ def _write_report(result: BilateralResult, directory: Path, calibration: dict[st
 def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
     """Calibrate a two-leg trial file and write its result folder; progress and warnings go to stderr.
 
-    ``options.side`` is not used (a two-leg trial has both); ``--calibration``, ``--s2j`` and
-    ``--reference`` are single-leg options and are refused; ``--outputs``/``--no-report`` and
+    ``options.side`` is not used (a two-leg trial has both); ``--calibration`` and ``--s2j``
+    are single-leg options and are refused, and so is ``--reference`` (naming ``lowerlimb
+    compare``, which compares a two-leg result); ``--outputs``/``--no-report`` and
     ``--export`` apply as for one leg.
 
     Raises:
@@ -292,10 +293,14 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
     """
     out = Path(options.out)
     check_options(options)  # method, filter, height, mass and the output folder, before computing
+    if options.reference is not None:  # the report of two legs has no agreement section
+        raise InputError(
+            f"--reference adds the agreement to a one-leg report; for a two-leg trial drop it and run "
+            f"'lowerlimb compare {out} {options.reference} --out DIR' after calibrating"
+        )
     single_leg_only = (
         (options.calibration, "--calibration"),
         (options.s2j, "--s2j"),
-        (options.reference, "--reference"),
     )
     for given, flag in single_leg_only:
         if given is not None:

@@ -1,4 +1,5 @@
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -114,6 +115,47 @@ def test_known_time_shift_is_recovered():
     # and the other direction, with a constant offset between the systems (ignored by r)
     b = estimate_time_offset(t, _signals(t), t_ref + 2 * true_offset, ref + 5.0)
     assert b.offset_s == pytest.approx(-true_offset, abs=0.002)
+
+
+def _walk(t, variability=0.15):
+    """Knee and hip of a walk that repeats each 1.1 s stride, its amplitude varying by stride (deg)."""
+    rng = np.random.default_rng(7)
+    knots = np.arange(-10, 40, 1.1)
+    amp = np.interp(t, knots, 1 + variability * rng.standard_normal(knots.size))
+    phase = 2 * np.pi * t / 1.1 + 0.1 * np.sin(2 * np.pi * t / 7.3)
+    return np.column_stack([30 * amp * np.sin(phase) ** 2, 20 * amp * np.sin(phase + 0.7)])
+
+
+@pytest.mark.parametrize("variability", [0.05, 0.15])
+def test_an_offset_beyond_the_window_is_called_ambiguous_within_it_is_not(variability):
+    t = np.arange(0, 30, 0.01)
+    t_true = np.arange(-8, 38, 0.01)
+    ref = _walk(t_true, variability)
+    for shift in (1.5, -1.5, 0.4):  # within ±2 s: found, and clear even on a very regular walk
+        a = estimate_time_offset(t, _walk(t, variability), t_true - shift, ref)
+        assert a.offset_s == pytest.approx(shift, abs=0.002)
+        assert not a.ambiguous and a.second_peak_correlation is not None
+    for shift in (5.0, -5.0, 3.3):  # beyond: the best peak is a wrong stride, almost tied with another
+        a = estimate_time_offset(t, _walk(t, variability), t_true - shift, ref)
+        assert abs(a.offset_s - shift) > 0.5 and a.ambiguous, a
+        assert abs(a.second_peak_offset_s - a.offset_s) >= AgreementParams().min_peak_separation_s
+
+
+def test_compare_series_warns_once_of_an_ambiguous_offset():
+    t = np.arange(0, 30, 0.01)
+    t_true = np.arange(-8, 38, 0.01)
+    ours = dict(zip(["knee_flexion", "hip_flexion"], _walk(t).T, strict=True))
+    ref = dict(zip(["knee_flexion", "hip_flexion"], _walk(t_true).T, strict=True))
+    units = dict.fromkeys(ours, "deg")
+    with pytest.warns(UserWarning) as caught:
+        c = compare_series(t, ours, units, t_true - 5.0, ref, align_time=True)
+    assert len(caught) == 1
+    text = str(caught[0].message)
+    assert "is ambiguous" in text and "outside ±2 s" in text and "align the reference by hand" in text
+    assert c.alignment is not None and c.alignment.ambiguous
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        compare_series(t, ours, units, t_true - 1.5, ref, align_time=True)  # no warning
 
 
 def test_compare_series_aligns_then_scores():

@@ -208,7 +208,7 @@ def test_side_and_single_leg_options_are_refused_for_two_legs(two_legs, tmp_path
     for extra, words in (
         (["--side", "right"], "is a two-leg trial"),
         (["--calibration", str(csv)], "--calibration is a single-leg option"),
-        (["--reference", str(csv)], "--reference is a single-leg option"),
+        (["--reference", str(csv)], "for a two-leg trial drop it and run 'lowerlimb compare "),
         (["--export", "fbx"], "invalid choice"),
         (["--outputs", "foo"], "unknown output 'foo'"),
         (["--height", "inf"], "--height"),

@@ -1,5 +1,6 @@
 import csv
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -188,6 +189,134 @@ def test_compare_refuses_a_hostile_reference_with_one_line(case, tmp_path, capsy
     assert err.startswith("lowerlimb: error: ") and err.count("\n") == 1 and "Traceback" not in err
     assert all(w in err for w in words), err
     assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    "case, words",
+    [
+        (
+            "other_leg",
+            [
+                "is the left leg's result",
+                "names the right leg",
+                "right_knee_flexion",
+                "give the result of a right-leg or two-leg trial",
+            ],
+        ),
+        ("both_legs", ["names both legs", "two-leg result"]),
+        ("own_leg_prefixed", ["names the left leg with a 'left_' prefix", "drop the 'left_' prefix"]),
+        ("no_angles", ["has no angles.csv", "re-run calibrate with the angles output"]),
+        ("two_legs_unprefixed", ["is a two-leg result", "names no leg", "'left_' or 'right_'"]),
+    ],
+)
+def test_compare_names_why_no_reference_column_is_ours(case, words, tmp_path, capsys):
+    d, t, deg, _ = _calibrate_dir(tmp_path)
+    (d / "calibration.json").write_text(json.dumps({"side": "left"}))
+    ref = tmp_path / "ref.csv"
+    header = {
+        "other_leg": ["time", "right_knee_flexion", "right_hip_flexion"],
+        "both_legs": ["time", "left_knee_flexion", "right_knee_flexion"],
+        "own_leg_prefixed": ["time", "left_knee_flexion", "left_hip_flexion"],
+        "no_angles": ["time", "knee_flexion", "hip_flexion"],
+        "two_legs_unprefixed": ["time", "knee_flexion", "hip_flexion"],
+    }[case]
+    _write_ref(ref, header, _rows(t, deg[:, 3], deg[:, 0]))
+    if case == "no_angles":  # as 'calibrate --outputs positions' leaves it
+        (d / "angles.csv").unlink()
+    if case == "two_legs_unprefixed":
+        two = ["time"] + [f"{s}_{c}" for s in ("left", "right") for c in ANGLE_COLUMNS[1:]]
+        _write_ref(d / "angles.csv", two, _rows(t, *deg.T, *deg.T))
+        (d / "positions.csv").unlink()
+    out = tmp_path / "agree"
+    assert main(["compare", str(d), str(ref), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("lowerlimb: error: ") and err.count("\n") == 1 and "Traceback" not in err
+    assert all(w in err for w in words), err
+    assert "rename its columns to ours" not in err
+    assert not out.exists()
+
+
+def test_compare_reads_a_header_in_capitals_with_our_units(tmp_path):
+    d, t, deg, pos = _calibrate_dir(tmp_path)
+    ref = tmp_path / "ref.csv"
+    _write_ref(
+        ref, ["Time (s)", "KNEE_FLEXION [deg]", "Pelvis_To_Foot_Y (m)"], _rows(t, deg[:, 3], pos[:, 1])
+    )
+    out = tmp_path / "agree"
+    assert main(["compare", str(d), str(ref), "--out", str(out)]) == 0
+    with open(out / "agreement.csv") as f:
+        table = {r["quantity"]: r for r in csv.DictReader(f)}
+    assert list(table) == ["knee_flexion", "pelvis_to_foot_y"]
+    assert float(table["knee_flexion"]["rmse"]) < 1e-4
+    ref.write_text(ref.read_text().replace("Time (s)", "time_s", 1))
+    assert main(["compare", str(d), str(ref), "--out", str(tmp_path / "agree2")]) == 0
+
+
+@pytest.mark.parametrize(
+    "case, words",
+    [
+        ("semicolons", ["is separated by ';', not commas", "save it comma-separated"]),
+        ("time_ms_column", ["column 'time_ms' in milliseconds", "in seconds as 'time'", "divide by 1000"]),
+        ("time_annotated_ms", ["column 'Time [ms]' in milliseconds", "divide by 1000"]),
+        ("angle_in_rad", ["column 'knee_flexion (rad)' in radians", "in degrees", "multiply by 180/π"]),
+        ("position_in_mm", ["column 'pelvis_to_foot_y [mm]' in millimetres", "in metres", "divide by 1000"]),
+        ("directory", ["is a directory, not a CSV file", "give the path of a CSV file"]),
+    ],
+)
+def test_compare_names_the_real_problem_of_a_header(case, words, tmp_path, capsys):
+    d, t, deg, _ = _calibrate_dir(tmp_path)
+    ref = tmp_path / "ref.csv"
+    header = {
+        "time_ms_column": ["time_ms", "knee_flexion"],
+        "time_annotated_ms": ["Time [ms]", "knee_flexion"],
+        "angle_in_rad": ["time", "knee_flexion (rad)"],
+        "position_in_mm": ["time", "pelvis_to_foot_y [mm]"],
+    }.get(case, ["time", "knee_flexion"])
+    scale = 1000 if "ms" in case else 1
+    _write_ref(ref, header, _rows(scale * t, deg[:, 3]))
+    if case == "semicolons":
+        ref.write_text(ref.read_text().replace(",", ";"))
+    if case == "directory":
+        ref = d  # a result folder given as the reference
+    out = tmp_path / "agree"
+    assert main(["compare", str(d), str(ref), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("lowerlimb: error: ") and err.count("\n") == 1 and "Traceback" not in err
+    assert all(w in err for w in words), err
+    assert not out.exists()
+
+
+def test_compare_align_time_warns_in_one_line_when_strides_make_the_offset_ambiguous(tmp_path):
+    d = tmp_path / "cal"
+    d.mkdir()
+    t = np.arange(0, 30, 0.01)
+    rng = np.random.default_rng(7)
+    knots = np.arange(-10, 40, 1.1)
+
+    def walk(tt):  # a walk repeating each 1.1 s stride, its amplitude varying by stride (deg)
+        amp = np.interp(tt, knots, 1 + 0.1 * rng_amp)
+        phase = 2 * np.pi * tt / 1.1
+        return np.column_stack([(k + 1) * 5 * amp * np.sin(phase + k) for k in range(9)])
+
+    rng_amp = rng.standard_normal(knots.size)
+    write_angles_csv(d / "angles.csv", t, np.deg2rad(walk(t)))
+    t_true = np.arange(-8, 38, 0.01)
+    ref = tmp_path / "ref.csv"
+    _write_ref(ref, list(ANGLE_COLUMNS), _rows(t_true + 5.0, *walk(t_true).T))  # 5 s late: beyond ±2 s
+    with pytest.warns(UserWarning) as caught:  # the CLI prints each as one 'lowerlimb: warning:' line
+        assert main(["compare", str(d), str(ref), "--out", str(tmp_path / "o"), "--align-time"]) == 0
+    assert len(caught) == 1
+    text = str(caught[0].message)
+    assert "\n" not in text and "is ambiguous" in text and "align the reference by hand" in text
+    summary = json.loads((tmp_path / "o" / "agreement.json").read_text())
+    assert summary["time_alignment"]["ambiguous"] is True
+    _write_ref(ref, list(ANGLE_COLUMNS), _rows(t_true + 1.5, *walk(t_true).T))  # within ±2 s: found, clear
+    with warnings.catch_warnings(record=True) as caught:
+        assert main(["compare", str(d), str(ref), "--out", str(tmp_path / "o2"), "--align-time"]) == 0
+    assert not caught, [str(w.message) for w in caught]
+    summary = json.loads((tmp_path / "o2" / "agreement.json").read_text())
+    assert summary["time_offset_s"] == pytest.approx(-1.5, abs=0.002)
+    assert summary["time_alignment"]["ambiguous"] is False
 
 
 def test_compare_accepts_a_reference_that_covers_part_of_the_trial(tmp_path):

@@ -110,6 +110,17 @@ def test_bad_stops_are_refused(params: PauseParams) -> None:
         simulate_bilateral(10.0, 1, stops=params)
 
 
+def test_stops_that_leave_the_walker_standing_at_the_end_are_refused() -> None:
+    with pytest.raises(InputError, match=r"1 stops of 100 s do not fit in a 30 s walk .*at most 11.7 s fit"):
+        simulate_bilateral(30.0, 1, stops=PauseParams(count=1, pause_s=100.0))
+    fits = PauseParams(count=1, pause_s=11.6)
+    assert fits.longest_pause_s(30.0, 1.5) >= 11.6 and fits.needed_duration_s(1.5) <= 30.0
+    sim = simulate_bilateral(30.0, 1, noise=ImuNoise.none(), stops=fits)
+    moving = np.linalg.norm(sim.trial.gyr["left_shank"], axis=1) > 0.05
+    # the longest stop that fits still leaves the walk the walking time it promises after it
+    assert sim.trial.time_s[-1] - sim.trial.time_s[~moving][-1] >= fits.min_walk_after_s
+
+
 def test_the_command_line_simulates_stops_for_two_legs_only(tmp_path, capsys) -> None:
     from lowerlimb.cli import main
 
@@ -119,6 +130,15 @@ def test_the_command_line_simulates_stops_for_two_legs_only(tmp_path, capsys) ->
     for argv, says in (
         (["--stops", "1"], "--stops 1 is a seven-IMU walk option"),
         (["--side", "both", "--stops", "5"], "--stops 5 is out of range for a 20 s walk"),
+        (
+            ["--side", "both", "--stops", "1", "--stop-s", "100"],
+            "--stops 1 of --stop-s 100 do not fit in --duration 20 (the walker must walk 2 s after the last "
+            "stop); give --stop-s at most 6.65, or --duration 207 or more",
+        ),
+        (["--side", "both", "--stops", "2"], "give --stop-s at most 1.48, or --duration 30 or more"),
+        (["--side", "both", "--stops", "1", "--stop-s", "inf"], "--stop-s inf is not a finite time"),
+        (["--side", "both", "--stop-s", "5"], "--stop-s 5 is the length of each --stops stop; add --stops N"),
+        (["--stop-s", "5"], "--stop-s 5 is the length of each --stops stop"),
     ):
         assert main(["simulate", "--duration", "20", *argv, "--out", str(tmp_path / "x.csv")]) == 2
         err = capsys.readouterr().err

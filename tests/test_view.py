@@ -91,12 +91,19 @@ def test_not_a_directory(tmp_path):
         load_view_data(tmp_path / "nowhere")
 
 
-def test_bad_files(cal_dir):
-    (cal_dir / "calibrated.urdf").write_text("<robot name='x'><link", encoding="utf-8")
-    with pytest.raises(InputError, match="cannot read .*calibrated.urdf as a lowerlimb leg URDF"):
-        load_view_data(cal_dir)
-    (cal_dir / "calibrated.urdf").write_text("<robot name='x'><link name='a'/></robot>", encoding="utf-8")
-    with pytest.raises(InputError, match="URDF is not a lowerlimb leg"):
+def test_bad_files(cal_dir, caplog):
+    urdf = cal_dir / "calibrated.urdf"
+    text = urdf.read_text(encoding="utf-8")
+    for damaged in ("<robot name='x'><link", text[: len(text) // 2]):  # the second: a truncated copy
+        urdf.write_text(damaged, encoding="utf-8")
+        with pytest.raises(
+            InputError, match=r"calibrated\.urdf is damaged \(not well-formed XML: .*line"
+        ) as e:
+            load_view_data(cal_dir)
+        assert str(e.value).endswith("; re-run lowerlimb calibrate") and "\n" not in str(e.value)
+    assert not caplog.records  # yourdfpy's "Using different parsing approach." log is not reached
+    urdf.write_text("<robot name='x'><link name='a'/></robot>", encoding="utf-8")
+    with pytest.raises(InputError, match=r"is damaged \(URDF is not a lowerlimb leg: joint .*\); re-run"):
         load_view_data(cal_dir)
 
 
@@ -107,18 +114,41 @@ ROW = ",".join(["0.1"] * 10)
 @pytest.mark.parametrize(
     ("text", "message"),
     [
-        ("time,a,b\n0,1,2\n", r"has columns \['time', 'a', 'b'\], expected \['time', 'hip_flexion'"),
-        (HEADER + "\n", "has no data rows"),
-        (HEADER + "\n0,1,2\n", "has 3 values per row, expected 10"),
-        (HEADER + "\n" + ROW + "\n0,1,2\n", "cannot read"),
-        (HEADER + "\n0.0," + ",".join(["nan"] * 9) + "\n", "NaN or infinite value at data row 1"),
-        (HEADER + "\n" + ROW + "\n" + ROW + "\n", "time column .* is not strictly increasing"),
+        ("time,a,b\n0,1,2\n", r"its header is 'time,a,b', not time,hip_flexion,hip_adduction,…"),
+        (HEADER + "\n", "no data rows"),
+        (HEADER + "\n0,1,2\n", "its rows have 3 values, not 10"),
+        (HEADER + "\n" + ROW + "\n0,1,2\n", "data row 2 has 3 values, not 10"),
+        (HEADER + "\n" + ROW + "\n0.2,0.1,0.1,0", "data row 2 has 4 values, not 10"),  # cut short
+        (
+            HEADER + "\n" + ROW + "\n0.2,0.1,0.1,0.1,,0.1,0.1,0.1,0.1,0.1\n",
+            "data row 2, column 'knee_flexion' is empty",
+        ),
+        (
+            HEADER + "\n" + ROW + "\n0.2,0.1,0.1,x,0.1,0.1,0.1,0.1,0.1,0.1\n",
+            "column 'hip_internal_rotation' holds 'x'",
+        ),
+        (
+            HEADER + "\n0.0," + ",".join(["nan"] * 9) + "\n",
+            "NaN or infinite value at data row 1, column 'hip_flexion'",
+        ),
+        (HEADER + "\n" + ROW + "\n" + ROW + "\n", "time column is not strictly increasing at data row 2"),
     ],
 )
 def test_bad_angles_csv(cal_dir, text, message):
     (cal_dir / "angles.csv").write_text(text, encoding="utf-8")
-    with pytest.raises(InputError, match=message):
+    with pytest.raises(InputError) as e:
         load_view_data(cal_dir)
+    assert str(e.value).startswith(f"{cal_dir / 'angles.csv'} is damaged (") and message in str(e.value)
+    assert str(e.value).endswith("); re-run lowerlimb calibrate")
+
+
+def test_view_refuses_the_other_side_of_a_one_leg_result(cal_dir, capsys):
+    assert load_view_data(cal_dir, "left").model.side == "left"
+    with pytest.raises(InputError, match="is a one-leg result of the left leg, so it has no right leg"):
+        load_view_data(cal_dir, "right")
+    assert main(["view", str(cal_dir), "--side", "right"]) == 2  # refused before any server starts
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "drop --side right" in err
 
 
 def test_cli_bad_dir_is_one_line_exit_2(tmp_path, capsys):

@@ -26,6 +26,13 @@ class TimeAlignment:
         at_window_edge: the best offset lies at the edge of the window (the
             true offset may be larger: widen the window or pre-shift).
         n_quantities: number of quantities that entered the correlation.
+        second_peak_offset_s: offset of the highest other peak of the correlation (a local
+            maximum, or a window edge the score rises toward, at least
+            ``min_peak_separation_s`` from ``offset_s``), s; None when there is none.
+        second_peak_correlation: mean Pearson r at ``second_peak_offset_s``; None when none.
+        ambiguous: the second peak is almost as high as the best (``ambiguous_peak_ratio``,
+            ``clear_misfit_ratio``): which one is the true offset (or whether it lies outside
+            the window) cannot be told.
     """
 
     offset_s: float
@@ -33,6 +40,9 @@ class TimeAlignment:
     search_window_s: float
     at_window_edge: bool
     n_quantities: int
+    second_peak_offset_s: float | None = None
+    second_peak_correlation: float | None = None
+    ambiguous: bool = False
 
 
 def estimate_time_offset(
@@ -94,13 +104,46 @@ def estimate_time_offset(
         if curvature < 0:
             best += float(np.clip(0.5 * (s_m - s_p) / curvature, -0.5, 0.5)) * dt
     score, n_q = _score(best, t, x, t_ref, y, p)
+    j = _second_peak(scores, grid, i, p.min_peak_separation_s)
+    second = None if j is None else float(scores[j])
     return TimeAlignment(
         offset_s=best,
         peak_correlation=float(score),
         search_window_s=float(k * dt),
         at_window_edge=i in (0, grid.size - 1),
         n_quantities=n_q,
+        second_peak_offset_s=None if j is None else float(grid[j]),
+        second_peak_correlation=second,
+        ambiguous=second is not None and _ambiguous(float(scores[i]), second, p),
     )
+
+
+def _ambiguous(best: float, second: float, p: AgreementParams) -> bool:
+    """Whether a second correlation peak ``second`` (mean r) is too close to the best one ``best``.
+
+    Too close: it reaches ``ambiguous_peak_ratio`` of the best, and the best's misfit ``1 - r`` is
+    not below ``clear_misfit_ratio`` of its own.
+    """
+    return second >= p.ambiguous_peak_ratio * best and (1.0 - best) >= p.clear_misfit_ratio * (1.0 - second)
+
+
+def _second_peak(scores: FloatArray, grid: ArrayLike, best: int, min_separation_s: float) -> int | None:
+    """Index of the highest local maximum of ``scores`` (NaN = none) apart from the best one.
+
+    Local maxima are grid points at least as high as their finite neighbours; a window edge
+    counts when the score rises toward it (a peak may lie beyond). Points closer than
+    ``min_separation_s`` (s) to ``grid[best]`` are the best peak's shoulder and do not count.
+    """
+    g = np.asarray(grid, dtype=float)
+    s = np.where(np.isfinite(scores), scores, -np.inf)
+    left = np.r_[-np.inf, s[:-1]]
+    right = np.r_[s[1:], -np.inf]
+    peak = np.isfinite(s) & (s >= left) & (s >= right)
+    peak &= np.abs(g - g[best]) >= min_separation_s
+    if not np.any(peak):
+        return None
+    candidates = np.flatnonzero(peak)
+    return int(candidates[np.argmax(s[candidates])])
 
 
 def _score(

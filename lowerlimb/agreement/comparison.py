@@ -126,7 +126,17 @@ def compare_series(
     if align_time:
         alignment = estimate_time_offset(t, X, t_ref, Y, params=p)
         offset = alignment.offset_s
-        if alignment.at_window_edge:
+        if alignment.ambiguous:
+            warnings.warn(
+                f"the time offset {offset:+.3f} s is ambiguous: the correlation (r = "
+                f"{alignment.peak_correlation:.3f}) is almost as high at "
+                f"{alignment.second_peak_offset_s:+.3f} s (r = {alignment.second_peak_correlation:.3f}), "
+                f"as a repeating walk gives one stride apart, and the true offset may lie outside "
+                f"±{p.max_offset_s:g} s; align the reference by hand (shift its time so that one event "
+                f"has the same time in both) and compare without --align-time",
+                stacklevel=2,
+            )
+        elif alignment.at_window_edge:
             warnings.warn(
                 f"the best time offset {offset:+.3f} s is at the edge of the ±{p.max_offset_s:g} s "
                 f"search window; the true offset may be larger (pre-shift the reference)",

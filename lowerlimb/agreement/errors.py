@@ -15,12 +15,21 @@ class AlignmentError(InputError):
 class NoCommonColumnsError(InputError):
     """The reference shares no quantity with our outputs."""
 
-    def __init__(self, reference_columns: Sequence[str], our_columns: Sequence[str], path: str = "") -> None:
+    def __init__(
+        self,
+        reference_columns: Sequence[str],
+        our_columns: Sequence[str],
+        path: str = "",
+        *,
+        message: str | None = None,
+    ) -> None:
+        """``message``: a more specific text (the other leg, a missing table) than "rename them"."""
         self.reference_columns = list(reference_columns)
         self.our_columns = list(our_columns)
         where = f"{path} " if path else "the reference "
         super().__init__(
-            f"{where}has no column named as in angles.csv/positions.csv (it has "
+            message
+            or f"{where}has no column named as in angles.csv/positions.csv (it has "
             f"{', '.join(self.reference_columns) or 'none'}); rename its columns to ours, e.g. "
             f"{', '.join(self.our_columns[:3])}"
         )

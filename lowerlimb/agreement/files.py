@@ -17,11 +17,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..conventions import FloatArray
+from ..conventions import SIDES, FloatArray
 from ..errors import InputError
 from ..io.trial import check_unique_columns
+from .columns import no_common_columns_error, reference_header
 from .comparison import Comparison
-from .errors import NoCommonColumnsError
 from .params import AgreementParams
 from .reference_checks import check_reference_time
 
@@ -62,7 +62,9 @@ class Table:
 def read_time_table(path: str | os.PathLike[str], what: str) -> Table:
     """Read a comma-separated table whose header has a ``time`` column.
 
-    Empty cells and ``nan`` become NaN.
+    Header names are read in any case, with our units' annotations dropped (``Time (s)`` is
+    ``time``: :func:`~lowerlimb.agreement.columns.reference_header`). Empty cells and ``nan``
+    become NaN.
 
     Args:
         path: the CSV file.
@@ -70,16 +72,19 @@ def read_time_table(path: str | os.PathLike[str], what: str) -> Table:
 
     Raises:
         FileNotFoundError: the file does not exist.
-        InputError: not UTF-8 text, no header, no ``time`` column, a column named twice,
-            unreadable numbers, or no rows.
+        InputError: a directory, not UTF-8 text, no header, no ``time`` column, a column in
+            another unit than s/deg/m, separated by ``;``, a column named twice, unreadable
+            numbers, or no rows.
     """
     path = Path(path)
+    if path.is_dir():
+        raise InputError(f"{what} {path} is a directory, not a CSV file; give the path of a CSV file")
     if not path.is_file():
         raise FileNotFoundError(f"{what} {path} does not exist; give the path of an existing CSV file")
     rows = _csv_rows(path, what)
-    if not rows or "time" not in [h.strip() for h in rows[0]]:
+    header = reference_header(rows[0], str(path), what) if rows else []
+    if "time" not in header:
         raise InputError(f"{what} {path} has no header with a 'time' column; add a header row 'time,…'")
-    header = [h.strip() for h in rows[0]]
     check_unique_columns([h for h in header if h], f"{what} {path}")
     body = [r for r in rows[1:] if any(c.strip() for c in r)]
     if not body:
@@ -109,6 +114,7 @@ def read_reference_table(
     our_columns: Collection[str] | None = None,
     time_s: FloatArray | None = None,
     params: AgreementParams | None = None,
+    result: CalibrateOutputs | None = None,
 ) -> Table:
     """Read a reference CSV (:func:`read_time_table`), check its columns, then its time column.
 
@@ -117,6 +123,8 @@ def read_reference_table(
         our_columns: our quantity names; at least one must be in the reference (optional).
         time_s: (N,) our sample times, s, to quote our time step in an error (optional).
         params: thresholds; defaults to :class:`AgreementParams`.
+        result: the result folder compared with, to name why no column is ours (its leg, its
+            missing tables: :func:`~lowerlimb.agreement.columns.no_common_columns_error`).
 
     Raises:
         FileNotFoundError: the file does not exist.
@@ -127,21 +135,44 @@ def read_reference_table(
     """
     table = read_time_table(path, "reference")
     if our_columns is not None and not any(c in our_columns for c in table.columns):
-        raise NoCommonColumnsError(list(table.columns), list(our_columns), str(path))
+        raise no_common_columns_error(
+            list(table.columns),
+            list(our_columns),
+            str(path),
+            directory="" if result is None else str(result.directory),
+            side=None if result is None else result.side,
+            missing_tables=() if result is None else result.missing_tables,
+        )
     check_reference_time(table.time_s, time_s=time_s, path=str(path), params=params)
     return table
 
 
-def read_calibrate_outputs(
-    directory: str | os.PathLike[str],
-) -> tuple[FloatArray, dict[str, FloatArray], dict[str, str]]:
-    """Our quantities from a ``calibrate`` output folder on one time axis.
+@dataclass(frozen=True)
+class CalibrateOutputs:
+    """Our quantities from a ``calibrate`` output folder, on one time axis.
 
-    Reads ``angles.csv`` (deg) and ``positions.csv`` (m), whichever exist;
-    both must share the same ``time`` column when both exist.
+    Attributes:
+        directory: the folder.
+        time_s: (N,) sample times, s.
+        values: name -> (N,) values (angles in deg, positions in m).
+        units: name -> unit (``"deg"``, ``"m"``).
+        side: the result's leg: ``"left"`` or ``"right"`` (one leg, from ``calibration.json``),
+            ``"both"`` (two legs: its columns are ``left_*``/``right_*``), or None (unknown).
+        missing_tables: the tables of :data:`OUTPUT_TABLE_UNITS` not in the folder.
+    """
 
-    Returns:
-        ``(time_s, values, units)``: (N,) s; name -> (N,) values; name -> unit.
+    directory: Path
+    time_s: FloatArray
+    values: dict[str, FloatArray]
+    units: dict[str, str]
+    side: str | None
+    missing_tables: tuple[str, ...]
+
+
+def read_result(directory: str | os.PathLike[str]) -> CalibrateOutputs:
+    """Read ``angles.csv`` (deg) and ``positions.csv`` (m) of a ``calibrate`` output folder, whichever exist.
+
+    Both must share the same ``time`` column when both exist.
 
     Raises:
         FileNotFoundError: the folder does not exist.
@@ -170,7 +201,31 @@ def read_calibrate_outputs(
         for name, v in table.columns.items():
             values[name] = v
             units[name] = unit
-    return time_s, values, units
+    missing = tuple(name for name in OUTPUT_TABLE_UNITS if not (d / name).is_file())
+    side = "both" if any(n.startswith(("left_", "right_")) for n in values) else _one_leg_side(d)
+    return CalibrateOutputs(d, time_s, values, units, side, missing)
+
+
+def read_calibrate_outputs(
+    directory: str | os.PathLike[str],
+) -> tuple[FloatArray, dict[str, FloatArray], dict[str, str]]:
+    """``(time_s, values, units)`` of :func:`read_result`: (N,) s; name -> (N,) values; name -> unit.
+
+    Raises:
+        FileNotFoundError: the folder does not exist.
+        InputError: it holds neither table, or their time columns differ.
+    """
+    r = read_result(directory)
+    return r.time_s, r.values, r.units
+
+
+def _one_leg_side(directory: Path) -> str | None:
+    """The ``side`` of a one-leg folder's ``calibration.json``; None when it is absent or unreadable."""
+    try:
+        side = json.loads((directory / "calibration.json").read_text(encoding="utf-8")).get("side")
+    except (OSError, ValueError, AttributeError):
+        return None
+    return side if side in SIDES else None
 
 
 def write_agreement_csv(path: str | os.PathLike[str], comparison: Comparison) -> None:

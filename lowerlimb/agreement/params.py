@@ -42,6 +42,18 @@ class AgreementParams:
             much, deg, over the same samples (a still joint proves nothing).
         max_position_m: a reference position column whose RMS exceeds this,
             m, may be in mm or cm (a leg's positions stay within ~1.2 m).
+        ambiguous_peak_ratio: with ``align_time``, the offset is called
+            ambiguous (and a warning says so) when another peak of the mean
+            correlation, at least ``min_peak_separation_s`` away, reaches this
+            fraction of the best peak's correlation: a walk repeats every
+            stride, so a reference shifted by more than the search window still
+            correlates almost as well one stride off the true offset…
+        clear_misfit_ratio: …unless the best peak's misfit ``1 - r`` is below
+            this fraction of the other peak's: a near-perfect fit is the true
+            offset even when a very regular walk correlates almost as well one
+            stride away.
+        min_peak_separation_s: a correlation peak this close to the best one,
+            s, is the same peak (its shoulder), not another stride.
     """
 
     loa_z: float = 1.96
@@ -55,3 +67,6 @@ class AgreementParams:
     max_radians_range: float = 3.2
     min_radians_check_range_deg: float = 20.0
     max_position_m: float = 3.0
+    ambiguous_peak_ratio: float = 0.95
+    clear_misfit_ratio: float = 0.25
+    min_peak_separation_s: float = 0.3

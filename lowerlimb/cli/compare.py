@@ -53,8 +53,8 @@ def run(args: argparse.Namespace) -> int:
     from lowerlimb.agreement import compare_series, plot_bland_altman
     from lowerlimb.agreement.files import (
         agreement_summary,
-        read_calibrate_outputs,
         read_reference_table,
+        read_result,
         write_agreement_csv,
         write_agreement_json,
     )
@@ -64,8 +64,9 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.exists():
         raise InputError(f"{out} already exists; choose a new --out directory")
-    time_s, ours, units = read_calibrate_outputs(args.dir)
-    ref = read_reference_table(args.reference, our_columns=list(ours), time_s=time_s)
+    result = read_result(args.dir)
+    time_s, ours, units = result.time_s, result.values, result.units
+    ref = read_reference_table(args.reference, our_columns=list(ours), time_s=time_s, result=result)
     comparison = compare_series(
         time_s,
         ours,

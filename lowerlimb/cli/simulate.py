@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 from collections.abc import Callable
 from pathlib import Path
 
@@ -92,7 +93,7 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
     p.add_argument(
         "--stop-s",
         type=positive_float,
-        default=3.0,
+        default=None,
         help="with --stops: each stop's standing time, s (default: 3)",
     )
     p.add_argument(
@@ -157,6 +158,14 @@ def _check_two_leg_options(args: argparse.Namespace) -> None:
             without ``--side both``; more stops than one per 10 s; stops on a treadmill;
             turns with stops or on a treadmill.
     """
+    if args.stop_s is not None and not args.stops:
+        raise InputError(
+            f"--stop-s {args.stop_s:g} is the length of each --stops stop; add --stops N or drop it"
+        )
+    if args.stop_s is not None and not math.isfinite(args.stop_s):
+        raise InputError(
+            f"--stop-s {args.stop_s:g} is not a finite time; give each stop's length in s, e.g. 3"
+        )
     if args.side != "both":
         two_leg_only = (
             ("--pace-changes", args.pace_changes),
@@ -188,8 +197,29 @@ def _check_two_leg_options(args: argparse.Namespace) -> None:
         )
     if args.treadmill and args.stops:
         raise InputError("--treadmill walks have no --stops; drop one of them")
+    if args.stops:
+        from lowerlimb.simulation.bilateral_walk import STILL_S
+        from lowerlimb.simulation.pauses import PauseParams
+
+        stops = PauseParams(count=args.stops, pause_s=stop_s(args))
+        longest = stops.longest_pause_s(args.duration, STILL_S)
+        if stops.pause_s > longest:
+            fits = f"give --stop-s at most {longest:.3g}, or " if longest > 0 else "give "
+            raise InputError(
+                f"--stops {args.stops} of --stop-s {stops.pause_s:g} do not fit in "
+                f"--duration {args.duration:g} "
+                f"(the walker must walk {stops.min_walk_after_s:g} s after the last stop); {fits}--duration "
+                f"{math.ceil(stops.needed_duration_s(STILL_S))} or more"
+            )
     if args.turns and (args.treadmill or args.stops):
         raise InputError("--turns walks have no --stops and no --treadmill; drop one of them")
+
+
+def stop_s(args: argparse.Namespace) -> float:
+    """Each stop's standing time, s: ``--stop-s``, or :class:`PauseParams`' default when not given."""
+    from lowerlimb.simulation.pauses import PauseParams
+
+    return float(PauseParams().pause_s if args.stop_s is None else args.stop_s)
 
 
 def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
@@ -213,7 +243,7 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
         lab_field=None if args.uniform_field else LAB_FIELD,
         pace_changes=args.pace_changes,
         pace=args.pace,
-        stops=PauseParams(count=args.stops, pause_s=args.stop_s) if args.stops else None,
+        stops=PauseParams(count=args.stops, pause_s=stop_s(args)) if args.stops else None,
         treadmill=TreadmillParams() if args.treadmill else None,
         turns=TurnParams() if args.turns else None,
     )
@@ -243,7 +273,7 @@ def _run_two_legs(args: argparse.Namespace, targets: dict[str, Path]) -> None:
     print(
         f"wrote {args.out} ({sim.trial.n_samples} samples at {args.rate:g} Hz, walk, both legs"
         f"{', real-walk artefacts' if sim.artefacts is not None else ''}"
-        f"{f', {args.stops} stops of {args.stop_s:g} s' if args.stops else ''}"
+        f"{f', {args.stops} stops of {stop_s(args):g} s' if args.stops else ''}"
         f"{', on a treadmill' if args.treadmill else ''}"
         f"{', straight passes and turns about' if args.turns else ''})"
         f"{' and ' + str(args.truth) if args.truth else ''}"

@@ -438,6 +438,10 @@ def _pace_changes(d: WalkDraw, rng: np.random.Generator) -> WalkDraw:
     )
 
 
+#: Standing still in the reference posture at the start of a simulated two-leg walk, s (default).
+STILL_S = 1.5
+
+
 def simulate_bilateral(
     duration_s: float = 60.0,
     seed: int = 0,
@@ -447,7 +451,7 @@ def simulate_bilateral(
     with_mag: bool = True,
     height_m: float = 1.75,
     mass_kg: float = 75.0,
-    still_s: float = 1.5,
+    still_s: float = STILL_S,
     artefacts: Artefacts | None = None,
     lab_field: LabField | None = LAB_FIELD,
     pace_changes: bool = False,
@@ -518,8 +522,9 @@ def simulate_bilateral(
 
     Raises:
         InputError: too short a trial, a non-positive rate, an unknown pace, a negative or
-            non-finite limb vibration, a non-finite or implausible knee rotation, bad stops, a
-            bad treadmill, stops on a treadmill, bad turns, or turns with stops or a treadmill.
+            non-finite limb vibration, a non-finite or implausible knee rotation, bad stops or
+            stops that do not fit in the walk (:meth:`PauseParams.check_fits`), a bad treadmill,
+            stops on a treadmill, bad turns, or turns with stops or a treadmill.
     """
     t_start = time.perf_counter()
     if rate_hz <= 0 or duration_s < still_s + 4.0:
@@ -541,6 +546,7 @@ def simulate_bilateral(
         )
     if stops is not None:
         stops.validate()
+        stops.check_fits(duration_s, still_s)
     if treadmill is not None:
         treadmill.validate()
         if stops is not None and stops.count:

@@ -37,11 +37,45 @@ class PauseParams:
         count: number of stops, spread evenly over the walk.
         pause_s: standing still at each stop, s.
         ramp_s: slowing to a halt, and starting again, each takes this long, s.
+        min_walk_after_s: the walker must walk at least this long after the last stop, s
+            (a stop longer than that leaves the walker standing at the end of the trial).
     """
 
     count: int = 0
     pause_s: float = 3.0
     ramp_s: float = 0.6
+    min_walk_after_s: float = 2.0
+
+    def longest_pause_s(self, duration_s: float, walk_start_s: float) -> float:
+        """The longest ``pause_s`` (s) with which ``count`` stops fit in the walk (≤ 0: none fits).
+
+        The stops are planned evenly over the walk's plan time (:func:`pause_plan_times`), and
+        each delays the rest of the walk by ``ramp_s + pause_s``: the last one ends at about
+        ``walk_start_s + count (duration_s - walk_start_s) / (count + 1) + count (ramp_s +
+        pause_s)``, which must leave ``min_walk_after_s`` before ``duration_s`` (all in s).
+        """
+        n = max(self.count, 1)
+        return ((duration_s - walk_start_s) / (n + 1) - self.min_walk_after_s) / n - self.ramp_s
+
+    def needed_duration_s(self, walk_start_s: float) -> float:
+        """The shortest trial (s) in which these stops fit (:meth:`longest_pause_s`)."""
+        n = max(self.count, 1)
+        return walk_start_s + (n + 1) * (n * (self.ramp_s + self.pause_s) + self.min_walk_after_s)
+
+    def check_fits(self, duration_s: float, walk_start_s: float) -> None:
+        """Refuse stops that do not fit in a ``duration_s`` (s) trial walking from ``walk_start_s`` (s).
+
+        Raises:
+            InputError: naming the longest stop that fits and the trial length needed.
+        """
+        if self.count and self.pause_s > self.longest_pause_s(duration_s, walk_start_s):
+            longest = self.longest_pause_s(duration_s, walk_start_s)
+            fits = f"stops of at most {longest:.3g} s fit" if longest > 0 else "no such stop fits"
+            raise InputError(
+                f"{self.count} stops of {self.pause_s:g} s do not fit in a {duration_s:g} s walk (at least "
+                f"{self.min_walk_after_s:g} s of walking after the last): {fits}; shorten the stops or "
+                f"make the trial at least {self.needed_duration_s(walk_start_s):.3g} s"
+            )
 
     def validate(self) -> None:
         """Raise :class:`InputError` for a negative count or a non-positive duration."""

@@ -15,6 +15,8 @@ command) serves until Ctrl-C.
 
 from __future__ import annotations
 
+import csv
+import logging
 import os
 import select
 import socket
@@ -26,13 +28,14 @@ import webbrowser
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
+from xml.etree import ElementTree
 
 import numpy as np
+from numpy.typing import NDArray
 
 from ..conventions import ANGLE_COLUMNS, SIDES, FloatArray
 from ..errors import InputError
 from ..io.bilateral_tables import BILATERAL_ANGLE_COLUMNS
-from ..io.tables import read_table
 from ..model.leg_model import LegModel
 from .meshcat_server import DEFAULT_HOST
 from .scene import DEFAULT_FPS, CommandRecorder, LegScene, draw_leg, live_visualizer
@@ -114,8 +117,9 @@ def load_view_data(directory: str | os.PathLike[str], side: str | None = None) -
         The leg and its motion.
 
     Raises:
-        InputError: when the directory or one of the two files is missing or
-            unreadable; the message names the file and the fix.
+        InputError: when the directory or one of the two files is missing, or a file is
+            damaged (``"DIR/angles.csv is damaged (data row 52 has 1 value, not 10); re-run
+            lowerlimb calibrate"``).
     """
     d = Path(directory)
     hint = "give the output directory of 'lowerlimb calibrate TRIAL.csv --out DIR'"
@@ -132,36 +136,101 @@ def load_view_data(directory: str | os.PathLike[str], side: str | None = None) -
     for f in (urdf, angles_csv):
         if not f.is_file():
             raise InputError(f"{f} is missing; {hint}")
-    try:
-        model = LegModel.from_urdf(urdf)
-    except InputError:
-        raise
-    except Exception as e:  # a parser's own error: unreadable or malformed XML
+    model = _read_urdf(urdf)
+    if columns == ANGLE_COLUMNS and side is not None and side != model.side:
         raise InputError(
-            f"cannot read {urdf} as a lowerlimb leg URDF ({type(e).__name__}: {e}); "
-            f"write it again with 'lowerlimb calibrate'"
-        ) from e
+            f"{d} is a one-leg result of the {model.side} leg, so it has no {side} leg to show; drop "
+            f"--side {side} (or view a two-leg result, which has both legs)"
+        )
+    table = _read_angles(angles_csv, columns, keep)
+    time_s = table[:, 0]
+    return ViewData(model, time_s, np.deg2rad(table[:, 1:]))
+
+
+def _damaged(path: Path, detail: str) -> InputError:
+    """The one-line error of a damaged result file: what is wrong with it, and the fix."""
+    return InputError(f"{path} is damaged ({detail}); re-run lowerlimb calibrate")
+
+
+def _read_urdf(path: Path) -> LegModel:
+    """The leg of a ``calibrated*.urdf``; a damaged file is named without the parser's own log lines.
+
+    Raises:
+        InputError: not well-formed XML (a truncated file), or not a lowerlimb leg.
+    """
+    try:
+        ElementTree.parse(path)  # strict: yourdfpy would log the error and recover a truncated file
+    except ElementTree.ParseError as e:
+        raise _damaged(path, f"not well-formed XML: {e}") from None
+    logger = logging.getLogger("yourdfpy")
+    disabled, logger.disabled = logger.disabled, True
+    try:
+        return LegModel.from_urdf(path)
+    except InputError as e:
+        raise _damaged(path, str(e).split(";")[0]) from None
+    except Exception as e:  # a parser's own error on XML that is well-formed but not a URDF
+        raise _damaged(path, f"not a lowerlimb leg URDF: {type(e).__name__}: {e}") from None
+    finally:
+        logger.disabled = disabled
+
+
+def _read_angles(path: Path, columns: tuple[str, ...], keep: slice | NDArray[np.int_]) -> FloatArray:
+    """(N, 10) time (s) and one leg's angles (deg): the columns ``keep`` of an ``angles.csv``, checked.
+
+    Raises:
+        InputError: naming the damage: the header, a row cut short, an empty or non-numeric
+            cell, a NaN, no data rows, or a time that is not strictly increasing.
+    """
+    try:
+        with open(path, encoding="utf-8") as f:
+            header = [h.strip() for h in f.readline().split(",")]
+    except UnicodeDecodeError:
+        raise _damaged(path, "not UTF-8 text") from None
+    if tuple(header) != columns:
+        shown = ",".join(header)
+        raise _damaged(
+            path,
+            f"its header is {shown[:60] + '…' if len(shown) > 60 else shown!r}, not "
+            f"{','.join(columns[:3])},…",
+        )
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)  # numpy's "input contained no data"
-            table = read_table(angles_csv, columns)
-    except ValueError as e:
-        raise InputError(f"cannot read {angles_csv}: {e}") from e
+            table = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    except ValueError:
+        raise _damaged(path, _first_bad_cell(path, columns)) from None
     if table.size == 0:
-        raise InputError(f"{angles_csv} has no data rows; write it again with 'lowerlimb calibrate'")
+        raise _damaged(path, "no data rows")
     if table.shape[1] != len(columns):
-        raise InputError(
-            f"{angles_csv} has {table.shape[1]} values per row, expected {len(columns)} "
-            f"({', '.join(columns)})"
-        )
+        raise _damaged(path, f"its rows have {table.shape[1]} values, not {len(columns)}")
+    names = np.array(columns)[keep]
     table = table[:, keep]
     if not np.all(np.isfinite(table)):
-        row = int(np.argwhere(~np.isfinite(table))[0, 0]) + 1
-        raise InputError(f"{angles_csv} has a NaN or infinite value at data row {row}")
-    time_s = table[:, 0]
-    if np.any(np.diff(time_s) <= 0):
-        raise InputError(f"the time column of {angles_csv} is not strictly increasing")
-    return ViewData(model, time_s, np.deg2rad(table[:, 1:]))
+        row, col = (int(i) for i in np.argwhere(~np.isfinite(table))[0])
+        raise _damaged(path, f"a NaN or infinite value at data row {row + 1}, column '{names[col]}'")
+    if np.any(np.diff(table[:, 0]) <= 0):
+        row = int(np.flatnonzero(np.diff(table[:, 0]) <= 0)[0]) + 2
+        raise _damaged(path, f"the time column is not strictly increasing at data row {row}")
+    return table
+
+
+def _first_bad_cell(path: Path, columns: tuple[str, ...]) -> str:
+    """What makes the first unreadable data row of a table unreadable (numpy does not say it clearly)."""
+    with open(path, encoding="utf-8", newline="") as f:
+        rows = csv.reader(f)
+        next(rows, None)
+        for i, row in enumerate(rows, start=1):
+            if not row:
+                continue
+            if len(row) != len(columns):
+                return f"data row {i} has {len(row)} value{'s' * (len(row) != 1)}, not {len(columns)}"
+            for cell, name in zip(row, columns, strict=True):
+                try:
+                    float(cell)
+                except ValueError:
+                    what = "is empty" if not cell.strip() else f"holds {cell.strip()[:20]!r}, not a number"
+                    return f"data row {i}, column '{name}' {what}"
+    return "unreadable numbers"
 
 
 def build_animation(
