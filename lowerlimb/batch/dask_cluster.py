@@ -17,7 +17,44 @@ from lowerlimb.errors import InputError
 
 from .record import TrialJob, TrialOutcome
 
-__all__ = ["run_dask"]
+__all__ = ["check_scheduler_address", "run_dask"]
+
+#: Protocols of a Dask address (``distributed.comm``) and whether they need ``HOST:PORT``.
+_PROTOCOLS: dict[str, bool] = {
+    "tcp": True,
+    "tls": True,
+    "ws": True,
+    "wss": True,
+    "ucx": True,
+    "inproc": False,
+}
+
+
+def check_scheduler_address(address: object) -> None:
+    """Refuse a scheduler address Dask cannot parse (before anything is read or written).
+
+    An address is ``[PROTOCOL://]HOST:PORT`` (``tcp`` when none is given; PORT a whole
+    number 1–65535), or an ``inproc://`` address of a cluster in this process. A
+    ``distributed.Client`` or cluster object is not checked here.
+
+    Raises:
+        InputError: a string that is not such an address.
+    """
+    if not isinstance(address, str):
+        return
+    protocol, sep, rest = address.partition("://")
+    if not sep:
+        protocol, rest = "tcp", address
+    needs_port = _PROTOCOLS.get(protocol.lower())
+    host, colon, port = rest.rpartition(":")
+    if needs_port is None:  # an unknown protocol
+        ok = False
+    elif not needs_port:
+        ok = bool(rest)
+    else:
+        ok = bool(colon and host.strip("[]")) and port.isdigit() and 0 < int(port) < 65536
+    if not ok:
+        raise InputError(f"--scheduler needs an address tcp://HOST:PORT, got {address!r}")
 
 
 def run_dask(

@@ -94,10 +94,15 @@ def run_study(
     Raises:
         FileNotFoundError: ``source`` does not exist.
         ManifestError: the manifest is unusable (nothing is processed).
-        InputError: bad options, ``out`` is a file, or the Dask scheduler is unusable.
+        InputError: bad options, ``out`` is a file, a scheduler address that is not
+            ``[tcp://]HOST:PORT``, or the Dask scheduler is unusable.
     """
     t0 = time.perf_counter()
     p = _checked(params or BatchParams())
+    if scheduler is not None:
+        from .dask_cluster import check_scheduler_address
+
+        check_scheduler_address(scheduler)
     trials = read_study(source, p, exclude=out)
     root = Path(out)
     if root.exists() and not root.is_dir():
