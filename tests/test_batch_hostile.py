@@ -41,3 +41,25 @@ def test_well_formed_scheduler_addresses_pass_the_check(address):
     check_scheduler_address(address)
     with pytest.raises(InputError, match="tcp://HOST:PORT"):
         check_scheduler_address(address.replace("8786", "0") if "8786" in address else "inproc://")
+
+
+def test_dask_workers_get_absolute_paths(tmp_path, monkeypatch):
+    """A Dask worker runs in its own cwd: relative trial paths were "not found", a relative --out
+    wrote the trials under the worker's cwd while batch.csv said ok."""
+    distributed = pytest.importorskip("distributed")
+    import batch_workers
+
+    from lowerlimb.batch import run_study
+
+    _one_trial(tmp_path)
+    (tmp_path / "m.csv").write_text("trial,side,calibration\ndata/walk.csv,left,old/calibration.json\n")
+    (tmp_path / "old").mkdir()
+    (tmp_path / "old" / "calibration.json").write_text("{}")
+    monkeypatch.chdir(tmp_path)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False) as cluster:
+        result = run_study(
+            "m.csv", "o", scheduler=cluster.scheduler_address, worker=batch_workers.reports_paths
+        )
+    (outcome,) = result.outcomes
+    expected = [tmp_path / "data" / "walk.csv", tmp_path / "old" / "calibration.json", tmp_path / "o"]
+    assert outcome.reason.split("|") == [str(p) for p in expected]
