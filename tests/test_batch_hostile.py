@@ -63,3 +63,29 @@ def test_dask_workers_get_absolute_paths(tmp_path, monkeypatch):
     (outcome,) = result.outcomes
     expected = [tmp_path / "data" / "walk.csv", tmp_path / "old" / "calibration.json", tmp_path / "o"]
     assert outcome.reason.split("|") == [str(p) for p in expected]
+
+
+def test_earlier_result_folders_in_a_study_folder_hold_no_trial(tmp_path, capsys):
+    """``batch data --out data/res_v2`` took res_v1's angles.csv… (and a calibrate folder's) as trials."""
+    from lowerlimb.batch import read_study
+    from lowerlimb.batch.manifest import RESULT_MARKERS
+    from lowerlimb.batch.record import MARKER
+
+    assert MARKER in RESULT_MARKERS
+    data = tmp_path / "data"
+    _one_trial(tmp_path)
+    argv = ["--workers", "1", "--quiet", "--outputs", "calibration,angles,positions"]
+    assert main(["batch", str(data), "--out", str(data / "res_v1"), *argv]) == 0
+    cal = data / "s1" / "cal"  # a calibrate result beside a subject's trials
+    cal.mkdir(parents=True)
+    (cal / "calibration.json").write_text("{}")
+    (cal / "angles.csv").write_text("time\n0\n")
+    capsys.readouterr()
+    assert [t.label for t in read_study(data)] == ["walk.csv"]
+    assert main(["batch", str(data), "--out", str(data / "res_v2"), *argv]) == 0
+    assert "1 of 1 trials done" in capsys.readouterr().err
+    # a folder of results alone is named as such
+    assert main(["batch", str(data / "res_v1"), "--out", str(tmp_path / "o"), *argv]) == 2
+    err = capsys.readouterr().err
+    assert "no trial found outside result folders (walk); give the folder of the trial CSVs" in err
+    assert not (tmp_path / "o").exists()

@@ -23,11 +23,14 @@ from lowerlimb.io.trial import one_side_prefix
 
 from .params import BatchParams
 
-__all__ = ["MANIFEST_COLUMNS", "ManifestError", "StudyTrial", "read_study"]
+__all__ = ["MANIFEST_COLUMNS", "RESULT_MARKERS", "ManifestError", "StudyTrial", "read_study"]
 
 #: Columns a manifest may have; ``trial`` is required.
 MANIFEST_COLUMNS: tuple[str, ...] = ("trial", "side", "subject", "task", "height_m", "mass_kg", "calibration")
 
+#: Files that make a sub-folder of a study folder a result (of ``batch``: ``batch.csv``, a trial's
+#: record; of ``calibrate``: ``calibration.json``): its CSVs are outputs, not trials.
+RESULT_MARKERS: tuple[str, ...] = ("batch.csv", ".batch.json", "calibration.json")
 #: Files of a folder that are not trials.
 _NOT_TRIALS = frozenset({"batch.csv", "manifest.csv", "study_subjects.csv", "study_tasks.csv"})
 
@@ -79,42 +82,80 @@ def read_study(
     """The trials of a manifest CSV, or of every ``*.csv`` under a folder (sorted).
 
     In a folder, a trial in a sub-folder takes the sub-folder's name as its subject;
-    files under ``exclude`` (the study's output folder, when it lies inside) are not trials.
+    files under ``exclude`` (the study's output folder, when it lies inside) and in
+    sub-folders holding one of :data:`RESULT_MARKERS` (earlier results) are not trials.
 
     Raises:
         FileNotFoundError: ``source`` does not exist.
         ManifestError: no ``trial`` column, text that is not UTF-8, a bad ``side`` or a
             ``height_m``/``mass_kg`` outside the CLI's ``--height``/``--mass`` range, the same
-            trial twice, two trials with the same folder name, or no trial (outside ``exclude``).
+            trial twice, two trials with the same folder name, or no trial (outside ``exclude``
+            and result folders).
     """
     p = params or BatchParams()
     src = Path(source)
+    skip = Path(exclude).resolve() if exclude is not None else None
     if not src.exists():
         raise FileNotFoundError(f"manifest or folder not found: {src}")
+    folder: _ResultFolders | None = None  # a folder's result folders (none in a manifest)
     if src.is_dir():
-        skip = Path(exclude).resolve() if exclude is not None else None
+        results = folder = _ResultFolders(src)
         rows = [
             {"trial": f.relative_to(src).as_posix(), "subject": _subject_of(f.relative_to(src))}
             for f in sorted(src.rglob("*.csv"))
             if f.name not in _NOT_TRIALS
             and not any(part.startswith(".") for part in f.relative_to(src).parts)
             and not (skip is not None and f.resolve().is_relative_to(skip))
+            and not results.holds(f)
         ]
         base = src
     else:
         rows = _read_rows(src)
         base = src.parent
     trials = [_trial_of(row, k, base, src, p) for k, row in enumerate(rows, start=1)]
-    if not trials and src.is_dir() and exclude is not None and any(src.rglob("*.csv")):
-        raise ManifestError(
-            src, f"no trial found outside --out {exclude}; give an --out folder outside the study folder"
-        )
+    if not trials and folder is not None:
+        out_inside = skip is not None and skip.is_relative_to(src.resolve()) and any(skip.rglob("*.csv"))
+        if out_inside:
+            raise ManifestError(
+                src, f"no trial found outside --out {exclude}; give an --out folder outside the study folder"
+            )
+        if folder.found:
+            raise ManifestError(
+                src,
+                f"no trial found outside result folders ({', '.join(folder.found[:3])}); give the folder "
+                "of the trial CSVs, not of results",
+            )
     if not trials:
         raise ManifestError(
             src, "no trial found; list trial CSVs in a 'trial' column or give a folder of them"
         )
     _check_unique(trials, src)
     return trials
+
+
+class _ResultFolders:
+    """Which sub-folders of a study folder are results (of ``batch`` or ``calibrate``): they hold no trial.
+
+    A folder is a result when it holds one of :data:`RESULT_MARKERS`; ``found`` lists
+    the result folders met (relative to the study folder), outermost first.
+    """
+
+    def __init__(self, root: Path) -> None:
+        self.root = root
+        self.found: list[str] = []
+        self._known: dict[Path, bool] = {}
+
+    def holds(self, file: Path) -> bool:
+        """Whether ``file`` lies in a result folder below the study folder."""
+        parents = [d for d in file.relative_to(self.root).parents if d != Path(".")]
+        return any(self._is_result(self.root / d) for d in reversed(parents))
+
+    def _is_result(self, folder: Path) -> bool:
+        if folder not in self._known:
+            self._known[folder] = any((folder / name).is_file() for name in RESULT_MARKERS)
+            if self._known[folder]:
+                self.found.append(folder.relative_to(self.root).as_posix())
+        return self._known[folder]
 
 
 def _subject_of(relative: Path) -> str:
