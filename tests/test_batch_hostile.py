@@ -89,3 +89,42 @@ def test_earlier_result_folders_in_a_study_folder_hold_no_trial(tmp_path, capsys
     err = capsys.readouterr().err
     assert "no trial found outside result folders (walk); give the folder of the trial CSVs" in err
     assert not (tmp_path / "o").exists()
+
+
+def test_a_rerun_redoes_a_trial_whose_outputs_were_damaged(tmp_path):
+    """A re-run checked only that the files were there: garbage in calibration.json and a truncated
+    calibrated.urdf were kept as done."""
+    import json
+
+    from lowerlimb.batch import BatchParams, run_study
+    from lowerlimb.batch.record import MARKER
+
+    manifest = _one_trial(tmp_path)
+    out = tmp_path / "o"
+    params = BatchParams(workers=1, outputs=frozenset({"calibration", "angles", "urdf"}))
+    assert run_study(manifest, out, params).processed == 1
+    folder = out / "data__walk"
+    record = json.loads((folder / MARKER).read_text())
+    assert set(record["files"]) == {"calibration.json", "angles.csv", "angles.units.json", "calibrated.urdf"}
+    size, digest = record["files"]["calibration.json"]
+    assert size == (folder / "calibration.json").stat().st_size and len(digest) == 64
+    assert run_study(manifest, out, params).processed == 0
+
+    (folder / "calibration.json").write_text("garbage")
+    assert run_study(manifest, out, params).processed == 1
+    json.loads((folder / "calibration.json").read_text())
+    urdf = folder / "calibrated.urdf"
+    urdf.write_bytes(urdf.read_bytes()[:100])
+    assert run_study(manifest, out, params).processed == 1
+    assert urdf.read_text().rstrip().endswith("</robot>")
+    # same size, other bytes
+    angles = folder / "angles.csv"
+    text = angles.read_text()
+    angles.write_text(text[:-2] + ("0" if text[-2] != "0" else "1") + text[-1])
+    assert run_study(manifest, out, params).processed == 1
+    assert run_study(manifest, out, params).processed == 0
+    # a record without the files' hashes (written before they were kept) cannot vouch for them
+    record = json.loads((folder / MARKER).read_text())
+    del record["files"]
+    (folder / MARKER).write_text(json.dumps(record))
+    assert run_study(manifest, out, params).processed == 1

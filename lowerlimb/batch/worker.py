@@ -79,8 +79,9 @@ def run_trial(job: TrialJob) -> TrialOutcome:
             outcome.wall_s = time.perf_counter() - t0
             outcome.cpu_s = time.process_time() - cpu0
             outcome.peak_rss_mb = peak_rss_mb()
-            from .record import write_record
+            from .record import file_digests, write_record
 
+            outcome.files = file_digests(d)
             write_record(d / MARKER, outcome)
 
         replace_directory(job.out / trial.name, fill)
