@@ -225,7 +225,7 @@ def test_a_study_mixing_one_leg_and_two_leg_trials(tmp_path):
     root.mkdir()
     simcache.cached_simulation("walk", 12.0, seed=0).trial.to_csv(root / "leg.csv")
     simulate_bilateral(20.0, seed=1).trial.to_csv(root / "both.csv")
-    rows = "trial,subject,side,calibration\nleg.csv,s1,left,\nboth.csv,s1,right,\n"
+    rows = "trial,subject,side,calibration\nleg.csv,s1,left,\nboth.csv,s1,both,\n"
     (root / "manifest.csv").write_text(rows)
     out = tmp_path / "out"
     params = BatchParams(workers=1, outputs=frozenset(OUTPUT_FILES) - {"report"})
@@ -246,7 +246,7 @@ def test_a_study_mixing_one_leg_and_two_leg_trials(tmp_path):
     assert run_study(root / "manifest.csv", out, params).processed == 0
     # calibration reuse does not apply to two legs: that trial fails with one clear reason
     (root / "manifest.csv").write_text(
-        rows.replace("both.csv,s1,right,", f"both.csv,s1,right,{out}/leg/calibration.json")
+        rows.replace("both.csv,s1,both,", f"both.csv,s1,both,{out}/leg/calibration.json")
     )
     run_study(root / "manifest.csv", out, params)
     two = {r["trial"]: r for r in _read_batch_csv(out)}["both.csv"]

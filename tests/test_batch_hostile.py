@@ -128,3 +128,44 @@ def test_a_rerun_redoes_a_trial_whose_outputs_were_damaged(tmp_path):
     del record["files"]
     (folder / MARKER).write_text(json.dumps(record))
     assert run_study(manifest, out, params).processed == 1
+
+
+def _header_only(path: Path, sensors: tuple[str, ...]) -> None:
+    """A trial CSV of one row whose header names ``sensors`` (enough for the manifest's checks)."""
+    names = [f"{s}_{q}_{a}" for s in sensors for q in ("acc", "gyr") for a in "xyz"]
+    path.write_text("time," + ",".join(names) + "\n0.0," + ",".join("0" for _ in names) + "\n")
+
+
+def test_side_both_is_for_two_leg_trials_and_left_right_for_one_leg(tmp_path, capsys):
+    """batch.csv writes side 'both' for a two-leg trial but the manifest refused it; a 'left' given
+    for a two-leg trial was silently ignored."""
+    from lowerlimb.batch import ManifestError, read_study
+    from lowerlimb.conventions import SENSORS
+    from lowerlimb.io.recording import TWO_LEG_SENSORS
+
+    _header_only(tmp_path / "two.csv", TWO_LEG_SENSORS)
+    _header_only(tmp_path / "one.csv", SENSORS)
+    manifest = tmp_path / "m.csv"
+    manifest.write_text("trial,side\ntwo.csv,both\none.csv,right\n")
+    assert [t.side for t in read_study(manifest)] == ["both", "right"]
+    manifest.write_text("trial,side\ntwo.csv,\none.csv,\n")
+    assert [t.side for t in read_study(manifest)] == ["both", "left"]
+    for rows, message in [
+        (
+            "trial,side\none.csv,left\ntwo.csv,left\n",
+            "m.csv, row 2: side 'left', but two.csv is a two-leg trial (pelvis, left_*, right_* sensors) "
+            "and both legs are calibrated; write both or leave the side empty",
+        ),
+        (
+            "trial,side\none.csv,both\n",
+            "m.csv, row 1: side 'both', but one.csv has one leg's sensors; write left or right "
+            "(or leave it empty)",
+        ),
+    ]:
+        manifest.write_text(rows)
+        with pytest.raises(ManifestError):
+            read_study(manifest)
+        assert main(["batch", str(manifest), "--out", str(tmp_path / "o"), "--quiet"]) == 2
+        err = capsys.readouterr().err
+        assert err.endswith(f"{message}\n") and err.count("\n") == 1
+        assert not (tmp_path / "o").exists()

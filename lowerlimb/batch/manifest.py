@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lowerlimb.errors import InputError
-from lowerlimb.io.bilateral_trial import read_header
+from lowerlimb.io.bilateral_trial import read_header, trial_layout
 from lowerlimb.io.bounds import INPUT_BOUNDS
 from lowerlimb.io.trial import one_side_prefix
 
@@ -54,7 +54,7 @@ class StudyTrial:
         name: its output folder name (unique in the study).
         path: the trial CSV.
         label: the trial as the manifest gives it (``batch.csv``'s ``trial`` column).
-        side: instrumented leg.
+        side: instrumented leg, ``both`` for a two-leg (seven-sensor) trial.
         subject: subject identifier, ``""`` when unknown.
         task: task identifier, ``""`` when unknown.
         height_m: subject stature, m.
@@ -87,7 +87,8 @@ def read_study(
 
     Raises:
         FileNotFoundError: ``source`` does not exist.
-        ManifestError: no ``trial`` column, text that is not UTF-8, a bad ``side`` or a
+        ManifestError: no ``trial`` column, text that is not UTF-8, a bad ``side`` (``both``
+            for a one-leg trial, ``left``/``right`` for a two-leg one) or a
             ``height_m``/``mass_kg`` outside the CLI's ``--height``/``--mass`` range, the same
             trial twice, two trials with the same folder name, or no trial (outside ``exclude``
             and result folders).
@@ -188,21 +189,38 @@ def _read_utf8_rows(path: Path) -> list[dict[str, str]]:
         return rows
 
 
-def _prefixed_side(path: Path) -> str | None:
-    """The side a one-leg trial's ``left_*``/``right_*`` column names give, or ``None`` (also unreadable)."""
+def _layout(path: Path) -> tuple[bool | None, str | None]:
+    """Whether the trial has two legs, and the side its one leg's ``left_*``/``right_*`` names give.
+
+    ``(None, None)`` for a trial that cannot be read (reported when it is processed).
+    """
     try:
-        return one_side_prefix(read_header(path))
+        header = read_header(path)
+        return trial_layout(header) == "two_legs", one_side_prefix(header)
     except (OSError, ValueError):  # reported when the trial is read
-        return None
+        return None, None
 
 
 def _trial_of(row: dict[str, str], k: int, base: Path, src: Path, p: BatchParams) -> StudyTrial:
     label = row.get("trial", "")
     if not label:
         raise ManifestError(src, "empty 'trial' cell; give the trial CSV's path", k)
-    side = row.get("side") or _prefixed_side(base / label) or p.default_side
-    if side not in ("left", "right"):
-        raise ManifestError(src, f"side {side!r}; use left or right", k)
+    given = row.get("side", "")
+    two_legs, prefixed = _layout(base / label)
+    if two_legs and given not in ("", "both"):
+        raise ManifestError(
+            src,
+            f"side {given!r}, but {label} is a two-leg trial (pelvis, left_*, right_* sensors) and both "
+            "legs are calibrated; write both or leave the side empty",
+            k,
+        )
+    if two_legs is False and given == "both":
+        raise ManifestError(
+            src, f"side 'both', but {label} has one leg's sensors; write left or right (or leave it empty)", k
+        )
+    side = "both" if two_legs else given or prefixed or p.default_side
+    if side not in ("left", "right", "both"):
+        raise ManifestError(src, f"side {side!r}; use left or right (both: a two-leg trial)", k)
     calibration = row.get("calibration") or ""
     b = INPUT_BOUNDS
     return StudyTrial(

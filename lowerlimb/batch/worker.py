@@ -118,6 +118,11 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
             smooth_orientation=p.smooth_orientation,
         )
         return bilateral_key_results(both), lambda d: _write_two_legs(both, d, p.outputs)
+    if trial.side == "both":
+        raise InputError(
+            f"side 'both', but {trial.label} has one leg's sensors; write left or right in the manifest's "
+            "side column"
+        )
     imu = ImuTrial.from_csv(trial.path, side=trial.side)
     previous = None if trial.calibration is None else read_calibration(trial.calibration)
     if previous is None:
