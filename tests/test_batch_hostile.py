@@ -169,3 +169,39 @@ def test_side_both_is_for_two_leg_trials_and_left_right_for_one_leg(tmp_path, ca
         err = capsys.readouterr().err
         assert err.endswith(f"{message}\n") and err.count("\n") == 1
         assert not (tmp_path / "o").exists()
+
+
+def test_batch_failures_say_to_set_the_manifest_side_not_a_side_option(tmp_path):
+    """batch has no --side, but its reasons said "rerun with --side right" / "pass --side left or
+    another calibration"."""
+    from lowerlimb.batch import BatchParams, run_study
+
+    manifest = _one_trial(tmp_path)  # a simulated left leg
+    params = BatchParams(workers=1, outputs=frozenset({"calibration"}))
+    assert not run_study(manifest, tmp_path / "o", params).failed
+    manifest.write_text("trial,side\ndata/walk.csv,right\n")
+    (wrong,) = run_study(manifest, tmp_path / "o2", params).outcomes
+    assert wrong.status == "failed" and "--side" not in wrong.reason
+    assert "this looks like a left leg, not right" in wrong.reason
+    assert "set the trial's side column to left in a manifest" in wrong.reason
+    assert "run 'lowerlimb calibrate data/walk.csv --no-side-check' on it alone" in wrong.reason
+    cal = tmp_path / "o" / "data__walk" / "calibration.json"
+    manifest.write_text(f"trial,side,calibration\ndata/walk.csv,right,{cal}\n")
+    (reuse,) = run_study(manifest, tmp_path / "o3", params).outcomes
+    assert reuse.reason == (
+        f"{cal} is of the left leg but the trial is the right leg; set the trial's side column to left "
+        "in the manifest, or give another calibration"
+    )
+
+
+def test_a_manifest_side_against_the_prefixed_columns_is_refused(tmp_path, capsys):
+    """It failed in the worker saying "drop --side (or pass --side left)"."""
+    _header_only(tmp_path / "t.csv", ("pelvis", "left_thigh", "left_shank", "left_foot"))
+    manifest = tmp_path / "m.csv"
+    manifest.write_text("trial,side\nt.csv,right\n")
+    assert main(["batch", str(manifest), "--out", str(tmp_path / "o"), "--quiet"]) == 2
+    assert capsys.readouterr().err.endswith(
+        "m.csv, row 1: side 'right', but t.csv names the left leg's sensors (left_thigh, left_shank, "
+        "left_foot); write left or leave the side empty\n"
+    )
+    assert not (tmp_path / "o").exists()

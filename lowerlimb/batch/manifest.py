@@ -218,6 +218,13 @@ def _trial_of(row: dict[str, str], k: int, base: Path, src: Path, p: BatchParams
         raise ManifestError(
             src, f"side 'both', but {label} has one leg's sensors; write left or right (or leave it empty)", k
         )
+    if prefixed is not None and given in ("left", "right") and given != prefixed:
+        raise ManifestError(
+            src,
+            f"side {given!r}, but {label} names the {prefixed} leg's sensors ({prefixed}_thigh, "
+            f"{prefixed}_shank, {prefixed}_foot); write {prefixed} or leave the side empty",
+            k,
+        )
     side = "both" if two_legs else given or prefixed or p.default_side
     if side not in ("left", "right", "both"):
         raise ManifestError(src, f"side {side!r}; use left or right (both: a two-leg trial)", k)
