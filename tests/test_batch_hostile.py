@@ -205,3 +205,44 @@ def test_a_manifest_side_against_the_prefixed_columns_is_refused(tmp_path, capsy
         "left_foot); write left or leave the side empty\n"
     )
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("trial;side\ndata/walk.csv;left\n", "the manifest is separated by ';'; save it comma-separated"),
+        ("trial\tside\ndata/walk.csv\tleft\n", "the manifest is separated by tabs; save it comma-separated"),
+        (
+            "trial,side\ndata/walk.csv,left\ndata/missing.csv,left\ndata/gone.csv,left\n",
+            "row 2: trial file data/missing.csv not found (looked for {base}/data/missing.csv) (and 1 more "
+            "missing); fix the manifest's paths, relative to its folder",
+        ),
+        (
+            "trial,calibration\ndata/walk.csv,cal/calibration.json\n",
+            "row 1: calibration cal/calibration.json not found (looked for {base}/cal/calibration.json); "
+            "fix the manifest's paths, relative to its folder",
+        ),
+        (
+            "trial\ndata\n",
+            "row 1: trial file data is a folder (looked for {base}/data); fix the manifest's paths",
+        ),
+        (
+            "trial\ndata/walk.csv\ndata__walk.csv\n",
+            "row 2: 'data/walk.csv' and 'data__walk.csv' map to the same output folder 'data__walk'; "
+            "rename one of the two files",
+        ),
+    ],
+)
+def test_a_bad_manifest_is_refused_before_any_work(tmp_path, capsys, text, message):
+    """Another separator said "no 'trial' column (columns: trial;side)"; a missing file failed its
+    trial (exit 1) while saying "fix the manifest's path"; two names of one folder said "list each
+    trial once"."""
+    manifest = _one_trial(tmp_path)
+    (tmp_path / "data__walk.csv").write_bytes((tmp_path / "data" / "walk.csv").read_bytes())
+    manifest.write_text(text)
+    out = tmp_path / "o"
+    assert main(["batch", str(manifest), "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"lowerlimb: error: {manifest}") and err.count("\n") == 1
+    assert message.format(base=tmp_path) in err
+    assert not out.exists()

@@ -90,7 +90,8 @@ def read_study(
         ManifestError: no ``trial`` column, text that is not UTF-8, a bad ``side`` (``both``
             for a one-leg trial, ``left``/``right`` for a two-leg one) or a
             ``height_m``/``mass_kg`` outside the CLI's ``--height``/``--mass`` range, the same
-            trial twice, two trials with the same folder name, or no trial (outside ``exclude``
+            trial twice, two trials with the same folder name, a trial or calibration file that
+            does not exist, another separator than a comma, or no trial (outside ``exclude``
             and result folders).
     """
     p = params or BatchParams()
@@ -131,6 +132,8 @@ def read_study(
             src, "no trial found; list trial CSVs in a 'trial' column or give a folder of them"
         )
     _check_unique(trials, src)
+    if folder is None:
+        _check_paths(rows, base, src)
     return trials
 
 
@@ -177,6 +180,7 @@ def _read_utf8_rows(path: Path) -> list[dict[str, str]]:
         reader = csv.DictReader(f)
         header = [h.strip() for h in (reader.fieldnames or [])]
         if "trial" not in header:
+            _check_separator(path, reader.fieldnames or [])
             raise ManifestError(
                 path,
                 f"no 'trial' column (columns: {', '.join(header) or 'none'}); "
@@ -187,6 +191,48 @@ def _read_utf8_rows(path: Path) -> list[dict[str, str]]:
             clean = {(k or "").strip(): (v or "").strip() for k, v in row.items() if isinstance(v, str)}
             rows.append(clean)
         return rows
+
+
+#: Separators a spreadsheet may save a "CSV" with, and their names in messages.
+_OTHER_SEPARATORS: dict[str, str] = {";": "';'", "\t": "tabs", "|": "'|'"}
+
+
+def _check_separator(path: Path, fieldnames: Sequence[str]) -> None:
+    """Refuse a manifest whose header is one cell holding ``trial`` and another separator.
+
+    Raises:
+        ManifestError: naming the separator.
+    """
+    line = ",".join(fieldnames)
+    for sep, name in _OTHER_SEPARATORS.items():
+        if "trial" in (cell.strip() for cell in line.split(sep)):
+            raise ManifestError(path, f"the manifest is separated by {name}; save it comma-separated")
+
+
+def _check_paths(rows: Sequence[dict[str, str]], base: Path, src: Path) -> None:
+    """Refuse a manifest naming a trial or calibration file that does not exist (before any work).
+
+    Raises:
+        ManifestError: the first such row, and how many more there are.
+    """
+    missing = [
+        (k, column, row[column])
+        for k, row in enumerate(rows, start=1)
+        for column in ("trial", "calibration")
+        if row.get(column) and not (base / row[column]).is_file()
+    ]
+    if not missing:
+        return
+    k, column, cell = missing[0]
+    what = "trial file" if column == "trial" else "calibration"
+    problem = "is a folder" if (base / cell).is_dir() else "not found"
+    more = f" (and {len(missing) - 1} more missing)" if len(missing) > 1 else ""
+    raise ManifestError(
+        src,
+        f"{what} {cell} {problem} (looked for {(base / cell).absolute()}){more}; fix the manifest's "
+        "paths, relative to its folder",
+        k,
+    )
 
 
 def _layout(path: Path) -> tuple[bool | None, str | None]:
@@ -277,8 +323,16 @@ def _check_unique(trials: Sequence[StudyTrial], src: Path) -> None:
     for k, t in enumerate(trials, start=1):
         key = t.name.lower()  # case-insensitive file systems
         if key in seen:
-            what = "the same trial twice" if seen[key] == t.label else f"{seen[key]!r} and {t.label!r}"
+            if seen[key] == t.label:
+                raise ManifestError(
+                    src,
+                    f"the same trial twice would share the output folder {t.name!r}; list each trial once",
+                    k,
+                )
             raise ManifestError(
-                src, f"{what} would share the output folder {t.name!r}; list each trial once", k
+                src,
+                f"{seen[key]!r} and {t.label!r} map to the same output folder {t.name!r}; rename one of "
+                "the two files",
+                k,
             )
         seen[key] = t.label
