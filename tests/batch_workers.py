@@ -13,3 +13,9 @@ def dies_on_killer(job: TrialJob) -> TrialOutcome:
     if job.trial.name == "killer":
         os._exit(9)
     return run_trial(job)
+
+
+def reports_paths(job: TrialJob) -> TrialOutcome:
+    """A failed outcome whose reason is ``trial|calibration|output folder``, the paths the worker got."""
+    paths = (job.trial.path, job.trial.calibration, job.out)
+    return TrialOutcome.failed(job.trial, "|".join(str(p) for p in paths), "internal", job.digest)

@@ -97,12 +97,14 @@ def test_cli_exit_status_force_and_changed_input(tmp_path, capsys):
     assert "1 processed now, 1 up to date" in capsys.readouterr().err
     assert main([*argv, "--force"]) == 0
     assert "2 processed now" in capsys.readouterr().err
-    # a missing trial file is a failed trial (exit 1), not a bad manifest
+    # a missing trial file is a bad manifest (exit 2): nothing is processed
     with open(manifest, "a") as f:
         f.write("s1/missing.csv,s1,walk,left,\n")
-    assert main(argv) == 1
+    before = _snapshot(out)
+    assert main(argv) == 2
     err = capsys.readouterr().err
-    assert "failed: s1/missing.csv" in err and "missing.csv" in err
+    assert "row 3: trial file s1/missing.csv not found" in err and err.count("\n") == 1
+    assert _snapshot(out) == before
 
 
 @pytest.mark.parametrize(
@@ -225,7 +227,7 @@ def test_a_study_mixing_one_leg_and_two_leg_trials(tmp_path):
     root.mkdir()
     simcache.cached_simulation("walk", 12.0, seed=0).trial.to_csv(root / "leg.csv")
     simulate_bilateral(20.0, seed=1).trial.to_csv(root / "both.csv")
-    rows = "trial,subject,side,calibration\nleg.csv,s1,left,\nboth.csv,s1,right,\n"
+    rows = "trial,subject,side,calibration\nleg.csv,s1,left,\nboth.csv,s1,both,\n"
     (root / "manifest.csv").write_text(rows)
     out = tmp_path / "out"
     params = BatchParams(workers=1, outputs=frozenset(OUTPUT_FILES) - {"report"})
@@ -246,7 +248,7 @@ def test_a_study_mixing_one_leg_and_two_leg_trials(tmp_path):
     assert run_study(root / "manifest.csv", out, params).processed == 0
     # calibration reuse does not apply to two legs: that trial fails with one clear reason
     (root / "manifest.csv").write_text(
-        rows.replace("both.csv,s1,right,", f"both.csv,s1,right,{out}/leg/calibration.json")
+        rows.replace("both.csv,s1,both,", f"both.csv,s1,both,{out}/leg/calibration.json")
     )
     run_study(root / "manifest.csv", out, params)
     two = {r["trial"]: r for r in _read_batch_csv(out)}["both.csv"]
@@ -337,5 +339,6 @@ def test_a_hidden_trial_name_does_not_share_the_failed_records_folder(tmp_path):
     """A manifest trial '.failed.csv' was written into '.failed', among the failure records."""
     manifest = tmp_path / "m.csv"
     manifest.write_text("trial\n.failed.csv\n")
+    (tmp_path / ".failed.csv").write_text("time\n")
     (trial,) = read_study(manifest)
     assert trial.name == "failed" and trial.name != FAILED_DIR

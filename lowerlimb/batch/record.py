@@ -1,9 +1,10 @@
 """One trial's line of ``batch.csv``, its input hash, and the records that make a run resumable.
 
 A finished trial leaves a record: inside its output folder (:data:`MARKER`, written in
-the same atomic rename as the outputs, so a folder with a record is complete), or, for
-a failed trial, ``DIR/.failed/<name>.json``. A re-run reads them back instead of
-processing again when the input hash still matches.
+the same atomic rename as the outputs, so a folder with a record is complete; it keeps
+each output file's size and SHA-256), or, for a failed trial, ``DIR/.failed/<name>.json``.
+A re-run reads them back instead of processing again when the input hash still matches
+and, for a folder, its files are still those written.
 """
 
 from __future__ import annotations
@@ -29,6 +30,8 @@ __all__ = [
     "STATUSES",
     "TrialJob",
     "TrialOutcome",
+    "file_digests",
+    "files_intact",
     "input_hash",
     "read_record",
     "write_record",
@@ -97,6 +100,8 @@ class TrialOutcome:
             ``""`` when not failed.
         attempts: times it was run in this session.
         skipped: taken from an earlier run's record, not processed now.
+        files: the output folder's files as written, name -> ``[size in bytes, SHA-256]``
+            (:func:`file_digests`; ``{}`` when failed): a re-run redoes the trial when one differs.
     """
 
     name: str
@@ -114,6 +119,7 @@ class TrialOutcome:
     failure: str = ""
     attempts: int = 1
     skipped: bool = False
+    files: dict[str, list[int | str]] = field(default_factory=dict)
 
     @classmethod
     def failed(
@@ -186,6 +192,45 @@ def input_hash(trial: StudyTrial, params: BatchParams) -> str:
         with open(path, "rb") as f:
             for chunk in iter(lambda: f.read(1 << 20), b""):
                 h.update(chunk)
+    return h.hexdigest()
+
+
+def file_digests(folder: Path) -> dict[str, list[int | str]]:
+    """Each file of ``folder`` (not its record :data:`MARKER`): name -> ``[size in bytes, SHA-256]``.
+
+    Raises:
+        OSError: a file cannot be read.
+    """
+    return {
+        f.name: [f.stat().st_size, _sha256(f)]
+        for f in sorted(folder.iterdir())
+        if f.is_file() and f.name != MARKER
+    }
+
+
+def files_intact(folder: Path, files: dict[str, list[int | str]]) -> bool:
+    """Whether every file of ``files`` (:func:`file_digests`) is in ``folder`` with that size and hash.
+
+    ``False`` for an empty ``files`` (a record written before they were kept) and for a
+    file that cannot be read.
+    """
+    if not files:
+        return False
+    try:
+        for name, (size, digest) in files.items():
+            path = folder / name
+            if path.stat().st_size != size or _sha256(path) != digest:
+                return False
+    except (OSError, ValueError, TypeError):
+        return False
+    return True
+
+
+def _sha256(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            h.update(chunk)
     return h.hexdigest()
 
 

@@ -4,7 +4,8 @@
 same returning a pandas DataFrame. The contract (docs/formats.md, "Many trials"):
 one output folder per trial, ``batch.csv`` with one row per trial, the per-subject
 and per-task summaries; a failed trial is recorded and the others go on; a re-run
-skips every trial whose record matches its input hash (``force`` redoes them).
+skips every trial whose record matches its input hash and whose files are those the record
+lists (``force`` redoes them).
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from .record import (
     MARKER,
     TrialJob,
     TrialOutcome,
+    files_intact,
     input_hash,
     read_record,
     remove_quietly,
@@ -94,10 +96,15 @@ def run_study(
     Raises:
         FileNotFoundError: ``source`` does not exist.
         ManifestError: the manifest is unusable (nothing is processed).
-        InputError: bad options, ``out`` is a file, or the Dask scheduler is unusable.
+        InputError: bad options, ``out`` is a file, a scheduler address that is not
+            ``[tcp://]HOST:PORT``, or the Dask scheduler is unusable.
     """
     t0 = time.perf_counter()
     p = _checked(params or BatchParams())
+    if scheduler is not None:
+        from .dask_cluster import check_scheduler_address
+
+        check_scheduler_address(scheduler)
     trials = read_study(source, p, exclude=out)
     root = Path(out)
     if root.exists() and not root.is_dir():
@@ -230,7 +237,7 @@ def _plan(trial: StudyTrial, root: Path, p: BatchParams) -> tuple[TrialOutcome |
         return TrialOutcome.failed(trial, reason, "input", ""), None
     if not p.force:
         done = read_record(root / trial.name / MARKER)
-        if done is not None and done.input_hash == digest and _complete(root / trial.name, p, done.side):
+        if done is not None and done.input_hash == digest and _complete(root / trial.name, p, done):
             done.skipped = True
             return done, None
         failed = read_record(root / FAILED_DIR / f"{trial.name}.json")
@@ -240,10 +247,15 @@ def _plan(trial: StudyTrial, root: Path, p: BatchParams) -> tuple[TrialOutcome |
     return None, TrialJob(trial, p, root, digest)
 
 
-def _complete(folder: Path, p: BatchParams, side: str = "") -> bool:
-    """Whether ``folder`` has every chosen output (a two-leg trial, side ``both``, has no ``s2j``)."""
-    names = p.outputs - {"s2j"} if side == "both" else p.outputs
-    return all((folder / OUTPUT_FILES[name]).is_file() for name in names)
+def _complete(folder: Path, p: BatchParams, done: TrialOutcome) -> bool:
+    """Whether ``folder`` has every chosen output, each as ``done`` recorded it.
+
+    A two-leg trial (side ``both``) has no ``s2j``; a file whose size or SHA-256 differs
+    from the record (truncated, overwritten) makes the folder incomplete.
+    """
+    names = p.outputs - {"s2j"} if done.side == "both" else p.outputs
+    chosen = all((folder / OUTPUT_FILES[name]).is_file() for name in names)
+    return chosen and files_intact(folder, done.files)
 
 
 def _record(root: Path, outcome: TrialOutcome) -> None:

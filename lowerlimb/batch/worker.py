@@ -21,8 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-from lowerlimb.bilateral import BilateralResult, process_bilateral_trial
+from lowerlimb.bilateral import BilateralResult, BilateralSideError, process_bilateral_trial
 from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.calibration.plausibility import WrongSideError
 from lowerlimb.conventions import ANGLE_COLUMNS
 from lowerlimb.errors import InputError
 from lowerlimb.io.atomic import default_dir_mode
@@ -79,12 +80,22 @@ def run_trial(job: TrialJob) -> TrialOutcome:
             outcome.wall_s = time.perf_counter() - t0
             outcome.cpu_s = time.process_time() - cpu0
             outcome.peak_rss_mb = peak_rss_mb()
-            from .record import write_record
+            from .record import file_digests, write_record
 
+            outcome.files = file_digests(d)
             write_record(d / MARKER, outcome)
 
         replace_directory(job.out / trial.name, fill)
         return outcome
+    except WrongSideError as e:  # said as a manifest's fix: batch has no --side
+        if not isinstance(e, BilateralSideError):  # (that one says to exchange the columns)
+            e = WrongSideError(
+                e.side,
+                e.lateral_m,
+                fix=f"set the trial's side column to {'right' if e.side == 'left' else 'left'} in a manifest",
+                no_check=f"run 'lowerlimb calibrate {trial.label} --no-side-check' on it alone",
+            )
+        return _failed(job, _one_line(e), "input", t0)
     except _INPUT_ERRORS as e:
         return _failed(job, _one_line(e), "input", t0)
     except Exception as e:  # a bug or a solver failure: recorded, the study goes on
@@ -117,8 +128,18 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
             smooth_orientation=p.smooth_orientation,
         )
         return bilateral_key_results(both), lambda d: _write_two_legs(both, d, p.outputs)
+    if trial.side == "both":
+        raise InputError(
+            f"side 'both', but {trial.label} has one leg's sensors; write left or right in the manifest's "
+            "side column"
+        )
     imu = ImuTrial.from_csv(trial.path, side=trial.side)
     previous = None if trial.calibration is None else read_calibration(trial.calibration)
+    if previous is not None and previous.side != trial.side:
+        raise InputError(
+            f"{trial.calibration} is of the {previous.side} leg but the trial is the {trial.side} leg; "
+            f"set the trial's side column to {previous.side} in the manifest, or give another calibration"
+        )
     if previous is None:
         imu.check_motion(INPUT_BOUNDS.min_motion_gyro_std_rps)
     result = process_trial(

@@ -161,17 +161,23 @@ class SensorOrderError(InputError):
 class WrongSideError(InputError):
     """The calibrated geometry belongs to the other leg; carries the lateral offset (m)."""
 
-    def __init__(self, side: str, lateral_m: float) -> None:
+    def __init__(self, side: str, lateral_m: float, *, fix: str = "", no_check: str = "") -> None:
+        """The error for ``side`` and the hip centre's lateral offset ``lateral_m`` (m).
+
+        ``fix`` says how to give the other side and ``no_check`` how to turn the check off
+        (default: ``calibrate``'s options ``--side`` and ``--no-side-check``).
+        """
         self.side = side
         self.lateral_m = lateral_m
         other = "right" if side == "left" else "left"
         where = "right" if lateral_m > 0 else "left"
+        fix = fix or f"rerun with --side {other}"
+        no_check = no_check or "pass --no-side-check"
         super().__init__(
             f"this looks like a {other} leg, not {side}: the calibrated hip centre lies "
-            f"{abs(lateral_m) * 100:.1f} cm to the {where} of the pelvis sensor; rerun with "
-            f"--side {other} (a pelvis accelerometer that reads -9.81 along up at rest mirrors the "
-            f"hip too: negate its acc columns; or pass --no-side-check if the pelvis sensor is not "
-            f"on the sacrum)"
+            f"{abs(lateral_m) * 100:.1f} cm to the {where} of the pelvis sensor; {fix} (a pelvis "
+            f"accelerometer that reads -9.81 along up at rest mirrors the hip too: negate its acc "
+            f"columns; or {no_check} if the pelvis sensor is not on the sacrum)"
         )
 
 
