@@ -52,11 +52,18 @@ class MissingColumnError(InputError):
         )
         like = _column_like(column, self.available)
         unit = _OWN_UNIT.get("time" if column == "time" else column.rsplit("_", 2)[-2], "")
-        if like and _annotated_name(like) == column:
+        sided = _side_named(self.available)
+        if sided is not None:
+            like = None
+            hint = (
+                f" (the file names a leg's sensors as {sided[0]!r}: name them {sided[1]!r}, "
+                f"left_/right_ before the sensor, for one leg or two)"
+            )
+        elif like and _annotated_name(like) == column:
             hint = f" (the file has {like!r}: give it in {unit} as {column!r})"
         else:
             hint = f" (the file has {like!r}: rename it {column!r}{', in s' if column == 'time' else ''})"
-        hint = hint if like else ""
+        hint = hint if like or sided else ""
         super().__init__(
             f"missing column '{column}'{where}{hint}; a trial needs time and "
             f"<sensor>_acc_x..z, <sensor>_gyr_x..z for {sensors} "
@@ -75,6 +82,30 @@ _OWN_UNIT = {"time": "s", "acc": "m/s²", "gyr": "rad/s", "mag": "µT"}
 def _annotated_name(header_cell: str) -> str:
     """A header cell without a trailing ``[unit]`` or ``(unit)`` (``thigh_acc_x [g]`` → ``thigh_acc_x``)."""
     return re.split(r"\s*[\[(]", header_cell, maxsplit=1)[0]
+
+
+#: A leg's sensor column named with another side mark: ``l_thigh_acc_x``, ``thigh_left_acc_x``.
+_SIDE_PREFIX = re.compile(r"(?P<side>l|r|lt|rt|lft|rgt)_(?P<rest>(thigh|shank|foot)_(acc|gyr|mag)_[xyz])")
+_SIDE_SUFFIX = re.compile(
+    r"(?P<sensor>thigh|shank|foot)_(?P<side>l|r|left|right)_(?P<rest>(acc|gyr|mag)_[xyz])"
+)
+
+
+def _side_named(available: Sequence[str]) -> tuple[str, str] | None:
+    """A column of the file that marks a leg's side otherwise, and its trial-format name.
+
+    ``l_thigh_acc_x`` and ``thigh_left_acc_x`` are ``left_thigh_acc_x`` (``None``: no such column).
+    """
+    for cell in available:
+        m = _SIDE_PREFIX.fullmatch(cell)
+        if m is not None:
+            side = "left" if m["side"].startswith("l") else "right"
+            return cell, f"{side}_{m['rest']}"
+        m = _SIDE_SUFFIX.fullmatch(cell)
+        if m is not None:
+            side = "left" if m["side"].startswith("l") else "right"
+            return cell, f"{side}_{m['sensor']}_{m['rest']}"
+    return None
 
 
 def _column_like(column: str, available: Sequence[str]) -> str | None:

@@ -246,3 +246,26 @@ def test_a_bad_manifest_is_refused_before_any_work(tmp_path, capsys, text, messa
     assert err.startswith(f"lowerlimb: error: {manifest}") and err.count("\n") == 1
     assert message.format(base=tmp_path) in err
     assert not out.exists()
+
+
+def test_batch_passes_the_check_flags_its_failure_reasons_name(tmp_path, capsys):
+    """A trial refused as swapped says "pass --no-order-check": batch takes that flag too."""
+    import numpy as np
+
+    from lowerlimb.io.trial import ImuTrial
+
+    t = simcache.cached_simulation("walk", 20.0, seed=0).trial
+    acc, gyr = dict(t.acc), dict(t.gyr)
+    for d in (acc, gyr):
+        d["thigh"], d["shank"] = d["shank"], d["thigh"]
+    (tmp_path / "data").mkdir()
+    ImuTrial(t.time_s, acc, gyr, None, side="left").to_csv(tmp_path / "data" / "swapped.csv")
+    manifest = tmp_path / "m.csv"
+    manifest.write_text("trial,side\ndata/swapped.csv,left\n")
+    assert main(["batch", str(manifest), "--out", str(tmp_path / "o1"), "--quiet", "--workers", "1"]) == 1
+    assert "--no-order-check" in capsys.readouterr().err
+    args = ["batch", str(manifest), "--out", str(tmp_path / "o2"), "--quiet", "--workers", "1"]
+    assert main([*args, "--no-order-check", "--no-report"]) == 0
+    assert np.isfinite(
+        np.loadtxt(tmp_path / "o2" / "data__swapped" / "angles.csv", delimiter=",", skiprows=1)
+    ).all()

@@ -114,3 +114,18 @@ def test_a_trial_the_user_may_not_read_is_one_line(
 def test_a_device_is_not_called_missing(tmp_path: Path) -> None:
     with pytest.raises(InputError, match="is not a regular file"):
         ImuTrial.from_csv("/dev/null")
+
+
+@pytest.mark.parametrize(
+    "mark, named", [("l_{s}", "left_{s}"), ("{s}_left", "left_{s}"), ("r_{s}", "right_{s}")]
+)
+def test_legs_marked_otherwise_are_told_the_left_right_names(
+    one_leg: Path, tmp_path: Path, mark: str, named: str
+) -> None:
+    lines = one_leg.read_text().splitlines()
+    header = lines[0]
+    for s in ("thigh", "shank", "foot"):
+        header = header.replace(f"{s}_", mark.format(s=s) + "_")
+    path = _write(tmp_path, "marked.csv", [header] + lines[1:])
+    with pytest.raises(InputError, match=f"name them '{named.format(s='thigh')}_acc_x'"):
+        ImuTrial.from_csv(path)

@@ -27,6 +27,12 @@ class BatchParams:
             before it became ``"aligned"`` are re-run once.
         thigh_twist: undo each thigh sensor's turn about the femur with hip flexion
             (``calibrate --thigh-twist``; in the input hash only when on).
+        side_check: refuse a trial whose calibrated hip lies on the other side of the
+            pelvis sensor (``calibrate --no-side-check``; in the input hash only when off).
+        order_check: refuse a trial whose sensor columns look swapped
+            (``calibrate --no-order-check``; in the input hash only when off).
+        sign_check: refuse a trial in which a sensor turns about the vertical against its
+            neighbours (``calibrate --no-sign-check``; in the input hash only when off).
         smooth_orientation: the orientation filters run forward and backward (offline;
             ``False``: ``calibrate --causal``). Always part of the input hash: studies run
             before the two passes became the default are re-run once.
@@ -48,6 +54,9 @@ class BatchParams:
     centre_form: str = "norm"
     hip_in_pelvis_form: str = "aligned"
     thigh_twist: bool = False
+    side_check: bool = True
+    order_check: bool = True
+    sign_check: bool = True
     smooth_orientation: bool = True
     outputs: frozenset[str] = field(default=ALL_OUTPUTS)
     workers: int | None = None
@@ -72,4 +81,7 @@ class BatchParams:
         key["smooth_orientation"] = self.smooth_orientation  # so did this one's
         if self.thigh_twist:  # off leaves the studies run before it up to date
             key["thigh_twist"] = True
+        for name in ("side_check", "order_check", "sign_check"):
+            if not getattr(self, name):  # on (the default) leaves the studies run before them up to date
+                key[name] = False
         return key

@@ -126,6 +126,7 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
             use_mag=p.use_mag,
             calibration_options=_options(p),
             smooth_orientation=p.smooth_orientation,
+            side_check=p.side_check,
         )
         return bilateral_key_results(both), lambda d: _write_two_legs(both, d, p.outputs)
     if trial.side == "both":
@@ -152,6 +153,7 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
         calibration=previous,
         calibration_options=_options(p),
         smooth_orientation=p.smooth_orientation,
+        side_check=p.side_check,
     )
     return key_results(result) | leg_gait_results(result), lambda d: write_outputs(result, d, files=p.outputs)
 
@@ -297,5 +299,9 @@ def _one_line(e: BaseException) -> str:
 def _options(p: BatchParams) -> CalibrationOptions:
     """The calibration options a study's settings choose."""
     return CalibrationOptions(
-        centre_form=p.centre_form, hip_in_pelvis_form=p.hip_in_pelvis_form, thigh_twist=p.thigh_twist
+        centre_form=p.centre_form,
+        hip_in_pelvis_form=p.hip_in_pelvis_form,
+        thigh_twist=p.thigh_twist,
+        check_sensor_order=p.order_check,
+        check_signs=p.sign_check,
     )

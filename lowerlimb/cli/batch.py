@@ -60,6 +60,14 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
     p.add_argument(
         "--causal", action="store_true", help="orientation filters forward only (as calibrate --causal)"
     )
+    for flag, what in (
+        ("--no-side-check", "a hip on the other side of the pelvis sensor"),
+        ("--no-order-check", "sensor columns that look swapped"),
+        ("--no-sign-check", "a sensor whose sign looks inverted"),
+    ):
+        p.add_argument(
+            flag, action="store_true", help=f"do not refuse trials for {what} (as calibrate {flag})"
+        )
     add_outputs(p)
 
 
@@ -74,6 +82,9 @@ def run(args: argparse.Namespace) -> int:
         centre_form=args.centre_form,
         hip_in_pelvis_form=args.hip_in_pelvis_form,
         thigh_twist=args.thigh_twist,
+        side_check=not args.no_side_check,
+        order_check=not args.no_order_check,
+        sign_check=not args.no_sign_check,
         smooth_orientation=not args.causal,
         outputs=chosen_outputs(args),
         workers=args.workers,
