@@ -62,5 +62,7 @@ def chosen_outputs(args: argparse.Namespace) -> frozenset[str]:
     """The output names chosen by :func:`add_outputs`' arguments (unchecked)."""
     names = set(args.outputs)
     if args.no_report:
+        if names == {"report"}:
+            raise InputError("--outputs report and --no-report leave nothing to write; drop one of them")
         names.discard("report")
     return frozenset(names)

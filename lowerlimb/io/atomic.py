@@ -46,6 +46,8 @@ def check_writable_parent(path: Path, option: str = "--out") -> Path:
         InputError: the parent folder does not exist, is not a folder, or is not writable.
     """
     parent = Path(path).parent if str(Path(path).parent) else Path(".")
+    if parent.exists() and not parent.is_dir():
+        raise InputError(f"{parent} is a file, not a directory; choose another {option}")
     if not parent.is_dir():
         raise InputError(f"directory {parent} does not exist; create it or choose another {option}")
     if not os.access(parent, os.W_OK | os.X_OK):
