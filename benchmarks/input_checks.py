@@ -1,5 +1,6 @@
-"""Two input checks that catch wrong columns the range checks cannot: a gyro's unit from its
-accelerometer, and one segment's sensors exchanged between the legs.
+"""Two input checks that catch wrong columns the range checks cannot.
+
+A gyro's unit from its accelerometer, and one segment's sensors exchanged between the legs:
 
 - **gyro unit** (``lowerlimb.io.gyro_scale``): the median angle by which each sensor's gyro,
   integrated between two quasi-static moments, misses the accelerometer's gravity (as given;
@@ -75,8 +76,8 @@ def valid_gyros(data: Path) -> list[dict[str, Any]]:
 
     for trial in ("1D_01", "2D_01", "3D_01"):
         t = rig.load_trial(data, trial)
-        rows += _sensor_rows(f"rig {trial}", {"1": t["acc1"], "2": t["acc2"]}, {"1": t["gyr1"], "2": t["gyr2"]},
-                             t["rate_hz"])  # fmt: skip
+        acc, gyr = {"1": t["acc1"], "2": t["acc2"]}, {"1": t["gyr1"], "2": t["gyr2"]}
+        rows += _sensor_rows(f"rig {trial}", acc, gyr, t["rate_hz"])
     for mount in ("rigid", "nonrigid"):
         imu = ring.load_imu(data / "ring" / f"trial1_imu_{mount}.csv")
         rows += _sensor_rows(f"RING {mount}", {str(k): v["acc"] for k, v in imu.items()},
@@ -195,9 +196,8 @@ def markdown(res: dict[str, Any]) -> str:
     ]
     for r in res["wrong_gyros"]:
         missed = r["trials"] - r["range_check"] - r["gyro_scale"]
-        md.append(
-            f"| {r['case']} | {r['motion']} | {r['trials']} | {r['range_check']} | {r['gyro_scale']} | {missed} |"
-        )
+        counts = f"{r['trials']} | {r['range_check']} | {r['gyro_scale']} | {missed}"
+        md.append(f"| {r['case']} | {r['motion']} | {counts} |")
     md += [
         "",
         "## Sensors exchanged between the legs (`lowerlimb.bilateral.leg_pairing`)",
@@ -206,7 +206,8 @@ def markdown(res: dict[str, Any]) -> str:
         "below 0.8 at the knees, a foot exchange below 0.7 at the ankles); the verdict as recorded "
         "(should be none) and with each segment's left and right sensors exchanged (should name it).",
         "",
-        "| source | knees ratio | ankles ratio | as recorded | thighs exchanged | shanks exchanged | feet exchanged |",
+        "| source | knees ratio | ankles ratio | as recorded | thighs exchanged | shanks exchanged "
+        "| feet exchanged |",
         "|---|---|---|---|---|---|---|",
     ]
     for r in res["exchanged_legs"]:
