@@ -46,6 +46,7 @@ SLOWDOWNS = (1.0, 2.0, 3.5, 5.0)
 MAX_GYRO_RAD_S = 35.0
 WALK_SEEDS = (201, 202, 203, 204, 205, 206)
 SEGMENTS = ("thigh", "shank", "foot")
+PLURAL = {"thigh": "thighs", "shank": "shanks", "foot": "feet"}
 
 
 def _sensor_rows(source: str, acc: dict[str, Any], gyr: dict[str, Any], rate: float) -> list[dict[str, Any]]:
@@ -217,7 +218,7 @@ def markdown(res: dict[str, Any]) -> str:
     md += [
         "",
         f"Valid recordings refused: {sum(r['as_recorded'] is not None for r in rows)} of {len(rows)}; "
-        + ", ".join(f"{s}s named {sum(r[s] == s for r in rows)} of {len(rows)}" for s in SEGMENTS)
+        + ", ".join(f"{PLURAL[s]} named {sum(r[s] == s for r in rows)} of {len(rows)}" for s in SEGMENTS)
         + ".",
         "",
     ]
