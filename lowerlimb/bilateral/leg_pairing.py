@@ -18,7 +18,7 @@ or ``ankle_ratio`` (0.7) times the pairing as given. Which segment was exchanged
 shanks both cross the knees; exchanged shanks also cross the ankles, exchanged thighs do not;
 exchanged feet cross the ankles alone. On those 37 recordings, each with each segment's sensors
 exchanged: no valid one refused; thighs named 36 of 37 and shanks 37 of 37 (the one miss, with
-artefacts, left the knees at 0.83); feet 15 of 37 (the real walk's among them: ankles that are
+artefacts, left the knees at 0.83); feet 17 of 37 (the real walk's among them: ankles that are
 no hinges cross as poorly as they pair). The test costs 0.4–0.7 s per trial (eight hinge fits
 of 1000 samples).
 """
