@@ -11,7 +11,6 @@ its arguments into :class:`CalibrateOptions`.
 
 from __future__ import annotations
 
-import hashlib
 import json
 import sys
 import warnings
@@ -36,6 +35,7 @@ from .gait.one_leg import LegGait
 from .gait.writers import write_leg_gait
 from .io.atomic import check_new_directory, populate_directory
 from .io.bounds import INPUT_BOUNDS, InputBounds, check_range, check_vectors
+from .io.file_hash import file_sha256
 from .io.interrupts import check_interrupted
 from .io.result_files import OUTPUT_FILES, check_outputs
 from .io.tables import write_angles_csv, write_positions_csv
@@ -541,15 +541,6 @@ def dependency_versions() -> dict[str, str | None]:
             except PackageNotFoundError:
                 continue
     return out
-
-
-def file_sha256(path: Path) -> str:
-    """SHA-256 of a file's bytes, hex."""
-    digest = hashlib.sha256()
-    with open(path, "rb") as f:
-        for chunk in iter(lambda: f.read(1 << 20), b""):
-            digest.update(chunk)
-    return digest.hexdigest()
 
 
 def build_provenance(options: CalibrateOptions) -> dict[str, Any]:

@@ -19,6 +19,7 @@ from typing import Any
 
 from lowerlimb import __version__
 from lowerlimb.io.atomic import write_atomically, write_text
+from lowerlimb.io.file_hash import file_sha256
 
 from .manifest import StudyTrial
 from .params import BatchParams
@@ -202,7 +203,7 @@ def file_digests(folder: Path) -> dict[str, list[int | str]]:
         OSError: a file cannot be read.
     """
     return {
-        f.name: [f.stat().st_size, _sha256(f)]
+        f.name: [f.stat().st_size, file_sha256(f)]
         for f in sorted(folder.iterdir())
         if f.is_file() and f.name != MARKER
     }
@@ -219,19 +220,11 @@ def files_intact(folder: Path, files: dict[str, list[int | str]]) -> bool:
     try:
         for name, (size, digest) in files.items():
             path = folder / name
-            if path.stat().st_size != size or _sha256(path) != digest:
+            if path.stat().st_size != size or file_sha256(path) != digest:
                 return False
     except (OSError, ValueError, TypeError):
         return False
     return True
-
-
-def _sha256(path: Path) -> str:
-    h = hashlib.sha256()
-    with open(path, "rb") as f:
-        for chunk in iter(lambda: f.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
 
 
 def write_record(path: Path, outcome: TrialOutcome) -> None:
