@@ -141,3 +141,35 @@ def test_out_under_a_file_and_contradictory_outputs_are_one_line(
     out = tmp_path / "o"
     assert main(["calibrate", str(one_leg), "--out", str(out), "--outputs", "report", "--no-report"]) == 2
     assert "leave nothing to write" in capsys.readouterr().err and not out.exists()
+
+
+def test_a_header_ending_with_a_comma_over_rows_without_reads(one_leg: Path, tmp_path: Path) -> None:
+    lines = one_leg.read_text().splitlines()
+    plain = ImuTrial.from_csv(one_leg)
+    unnamed_last = [lines[0] + ","] + lines[1:]  # rows without the unnamed column's empty value
+    excel_empty = [lines[0] + ",,"] + [ln + ",," for ln in lines[1:]]  # two empty columns
+    for rows in (unnamed_last, excel_empty):
+        trial = ImuTrial.from_csv(_write(tmp_path, "h.csv", rows))
+        np.testing.assert_array_equal(trial.gyr["shank"], plain.gyr["shank"])
+
+
+def test_an_extra_value_is_named_in_a_file_with_quotes_too(one_leg: Path, tmp_path: Path) -> None:
+    lines = one_leg.read_text().splitlines()
+    lines[0] = ",".join(f'"{h}"' for h in lines[0].split(","))  # R's write.csv, pandas QUOTE_ALL
+    cells = lines[500].split(",")
+    lines[500] = ",".join(cells[:10] + ["0.0"] + cells[10:])
+    with pytest.raises(InputError, match=r"data row 500 has 38 values but the header names 37 columns"):
+        ImuTrial.from_csv(_write(tmp_path, "quoted.csv", lines))
+
+
+def test_a_quoted_comma_in_an_unused_column_does_not_shift_the_others(one_leg: Path, tmp_path: Path) -> None:
+    lines = one_leg.read_text().splitlines()
+    rows = [f"label,{lines[0]}"] + [f'"walk, trial 1",{ln}' for ln in lines[1:]]
+    trial = ImuTrial.from_csv(_write(tmp_path, "label.csv", rows))
+    np.testing.assert_array_equal(trial.acc["pelvis"], ImuTrial.from_csv(one_leg).acc["pelvis"])
+
+
+def test_a_header_written_as_a_comment_is_named(one_leg: Path, tmp_path: Path) -> None:
+    lines = one_leg.read_text().splitlines()
+    with pytest.raises(InputError, match="is a comment line.*numpy.savetxt"):
+        ImuTrial.from_csv(_write(tmp_path, "savetxt.csv", ["# " + lines[0]] + lines[1:]))

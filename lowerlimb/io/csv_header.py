@@ -6,11 +6,13 @@ rows are (numpy's reader skips ``#`` lines). The header is the first other line.
 
 A data row with more values than the header names shifts every later column of that row (numpy's
 reader, told which columns to read, does not see it): :func:`ragged_row` finds such a row, and
-the reader then names it. A trailing empty cell (a comma at the end of every row) is allowed.
+the reader then names it. A trailing empty cell (a comma at the end of every row) is allowed, and
+so is a header ending with a comma over rows that do not.
 """
 
 from __future__ import annotations
 
+import csv
 import re
 from dataclasses import dataclass
 
@@ -19,7 +21,7 @@ from lowerlimb.errors import InputError
 from .errors import UnreadableFileError
 from .text_file import BINARY_MAGIC
 
-__all__ = ["HeaderLine", "RaggedRow", "header_line", "is_skipped_line", "ragged_row"]
+__all__ = ["HeaderLine", "RaggedRow", "header_line", "is_skipped_line", "ragged_row", "row_fits"]
 
 #: Excel's first line naming the separator (``sep=,``).
 _SEP_LINE = re.compile(r"\s*sep=.\s*", re.IGNORECASE)
@@ -42,10 +44,12 @@ class HeaderLine:
     Attributes:
         index: number of lines before it (skipped: blank, ``#`` comments, Excel's ``sep=``).
         text: the header line itself (its line break stripped).
+        comments: the ``#`` comment lines skipped before it, ``#`` and spaces stripped.
     """
 
     index: int
     text: str
+    comments: tuple[str, ...] = ()
 
 
 def header_line(path: str) -> HeaderLine:
@@ -70,11 +74,14 @@ def header_line(path: str) -> HeaderLine:
     if b"\x00" in head:
         raise InputError(f"{path} is a binary file, not a trial CSV; export the recording as CSV text")
     try:
+        comments: list[str] = []
         with open(path, newline="", encoding="utf-8-sig") as f:
             for index, line in enumerate(f):
+                if line.strip().startswith("#"):
+                    comments.append(line.strip().lstrip("#").strip())
                 if is_skipped_line(line) or (index == 0 and _SEP_LINE.fullmatch(line)):
                     continue
-                return HeaderLine(index, line.rstrip("\r\n"))
+                return HeaderLine(index, line.rstrip("\r\n"), tuple(comments))
     except UnicodeDecodeError as e:
         raise InputError(
             f"{path} is not UTF-8 text (byte {e.object[e.start]:#04x} at offset {e.start}); "
@@ -100,23 +107,32 @@ class RaggedRow:
     last: bool
 
 
-def ragged_row(path: str, header: HeaderLine, n_columns: int) -> RaggedRow | None:
-    """The first data row with more or fewer values than ``n_columns`` (``None``: none, or quoted cells).
+def row_fits(n_values: int, last_empty: bool, header: list[str]) -> bool:
+    """Whether a data row of ``n_values`` values (its last one empty or not) fits the header.
 
-    Values are counted by commas, so a file with quoted cells is not checked here (the csv
-    module's reader checks it). One more value than the header's, empty, is allowed (a
-    trailing comma).
+    One value per column; one more, empty, is a trailing comma; one fewer is a row whose
+    writer left out the value of an unnamed last column (a header ending with a comma).
+    """
+    n = len(header)
+    return n_values == n or (n_values == n + 1 and last_empty) or (n_values == n - 1 and header[-1] == "")
+
+
+def ragged_row(path: str, head: HeaderLine, header: list[str]) -> RaggedRow | None:
+    """The first data row whose number of values does not fit the header (:func:`row_fits`), or ``None``.
+
+    Values are counted by commas, or by the csv module where the file has quoted cells (a
+    quoted comma is no separator).
     """
     with open(path, "rb") as f:
         raw = f.read()
+    data = raw.split(b"\n")[head.index + 1 :]
+    lines = [ln for ln in data if ln.strip() and not ln.lstrip().startswith(b"#")]
     if b'"' in raw:
-        return None
-    lines = [
-        ln for ln in raw.split(b"\n")[header.index + 1 :] if ln.strip() and not ln.lstrip().startswith(b"#")
-    ]
-    for k, line in enumerate(lines):
-        n = line.count(b",") + 1
-        if n == n_columns or (n == n_columns + 1 and line.rstrip().endswith(b",")):
-            continue
-        return RaggedRow(k + 1, n, n_columns, k == len(lines) - 1)
+        rows = list(csv.reader(ln.decode("utf-8", "replace") for ln in lines))
+        counts = [(len(r), not r or not r[-1].strip()) for r in rows]
+    else:
+        counts = [(ln.count(b",") + 1, ln.rstrip().endswith(b",")) for ln in lines]
+    for k, (n, last_empty) in enumerate(counts):
+        if not row_fits(n, last_empty, header):
+            return RaggedRow(k + 1, n, len(header), k == len(lines) - 1)
     return None

@@ -38,7 +38,7 @@ from ..errors import (
 )
 from ..stillness import StillPeriod, detect_still_period
 from .bounds import INPUT_BOUNDS
-from .csv_header import RaggedRow, header_line, is_skipped_line, ragged_row
+from .csv_header import RaggedRow, header_line, is_skipped_line, ragged_row, row_fits
 from .gyro_scale import check_gyro_scale
 from .header_units import check_mag_units, without_own_unit
 from .mag_cells import bridged_magnetometer
@@ -544,11 +544,17 @@ def _read_header(path: str) -> list[str]:
     Lines before it that are blank, ``#`` comments or Excel's ``sep=`` line are skipped
     (:func:`~lowerlimb.io.csv_header.header_line`).
     """
-    line = header_line(path).text
+    head = header_line(path)
+    line = head.text
     try:
         header = header_names(next(csv.reader([line])))
     except csv.Error as e:
         raise unreadable_csv(path, e) from None
+    if "time" not in header and any("time" in header_names(c.split(",")) for c in head.comments):
+        raise InputError(
+            f"the header of {path} is a comment line ('# time,…', as numpy.savetxt writes it); "
+            f"delete the '#' before it (savetxt: pass comments='')"
+        )
     if "time" not in header:
         for sep, name in ((";", "semicolons"), ("\t", "tabs"), ("|", "vertical bars")):
             if sep in line and len(line.split(sep)) > len(header):
@@ -572,7 +578,7 @@ def check_unique_columns(header: list[str], path: str) -> None:
     Raises:
         InputError: naming the repeated columns.
     """
-    dup = sorted({h for h in header if header.count(h) > 1})
+    dup = sorted({h for h in header if h and header.count(h) > 1})  # empty names: unnamed empty columns
     if dup:
         raise InputError(
             f"{path} has the column {dup[0]!r} {header.count(dup[0])} times"
@@ -606,9 +612,10 @@ def read_numbers(
                 dtype=float,
                 ndmin=2,
                 encoding="utf-8-sig",
+                quotechar='"',
             )
         optional = [k for k, c in enumerate(usecols) if c in blank_ok]
-        if not np.isnan(values[:, optional]).any() and ragged_row(path, head, len(header)) is None:
+        if not np.isnan(values[:, optional]).any() and ragged_row(path, head, header) is None:
             return values  # else the slow path names the written-out NaN or the ragged row
     except UnicodeDecodeError as e:
         raise InputError(
@@ -624,9 +631,7 @@ def read_numbers(
         for row_no, row in enumerate(csv.reader(lines), start=1):
             if not row or all(not c.strip() for c in row):
                 continue
-            if len(row) == len(header) + 1 and not row[-1].strip():
-                row = row[:-1]  # a trailing comma
-            if len(row) != len(header):
+            if not row_fits(len(row), not row[-1].strip(), header):
                 raise _ragged(path, RaggedRow(row_no, len(row), len(header), row_no == len(lines)))
             rows.append([_cell_value(row[c], header[c], row_no, c in blank_ok) for c in usecols])
     except csv.Error as e:
