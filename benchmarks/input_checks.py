@@ -218,8 +218,14 @@ def markdown(res: dict[str, Any]) -> str:
     md += [
         "",
         f"Valid recordings refused: {sum(r['as_recorded'] is not None for r in rows)} of {len(rows)}; "
-        + ", ".join(f"{PLURAL[s]} named {sum(r[s] == s for r in rows)} of {len(rows)}" for s in SEGMENTS)
-        + ".",
+        + ", ".join(
+            f"{PLURAL[s]} named {sum(r[s] == s for r in rows)} of {len(rows)}"
+            f" ({sum(r[s] == 'thigh or shank' for r in rows)} as thigh or shank,"
+            f" {sum(r[s] not in (None, s, 'thigh or shank') for r in rows)} wrongly)"
+            for s in SEGMENTS
+        )
+        + ". *thigh or shank*: the knees say that one of the two was exchanged and the ankles, within "
+        "5 % of 1, cannot tell which (`LegPairingParams.ankle_margin`): the message names both.",
         "",
     ]
     return "\n".join(md)

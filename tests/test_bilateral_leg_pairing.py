@@ -73,3 +73,13 @@ def test_the_real_walk_as_recorded_and_exchanged(segment: str | None) -> None:
         return
     with pytest.raises(CrossedLegsError, match=f"left_{segment} and right_{segment}"):
         check_leg_pairing(_exchanged(trial, segment))
+
+
+def test_ankles_that_cannot_tell_name_both_candidates() -> None:
+    from lowerlimb.bilateral.leg_pairing import LegPairing, LegPairingParams
+
+    p = LegPairingParams()
+    assert LegPairing(1.0, 0.1, 1.0, 1.03).exchanged(p) == "thigh or shank"
+    assert LegPairing(1.0, 0.1, 1.0, 1.3).exchanged(p) == "thigh"
+    assert LegPairing(1.0, 0.1, 1.0, 0.7).exchanged(p) == "shank"
+    assert "whichever were mixed up" in str(CrossedLegsError("thigh or shank", 0.2, 0.05))

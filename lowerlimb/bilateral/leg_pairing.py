@@ -13,10 +13,12 @@ ankles for the feet, though less sharply (an ankle is no hinge). Measured (the s
 of the hinge fit's RMS residual, crossed / as given): simulated seven-IMU walks (seeds 201–206,
 normal, slow and shuffling paces, treadmill, turns) knees 8–92, ankles 1.1–4.5; with the
 real-walk artefacts knees 1.2–3.2, ankles 1.0–1.5; the real walk of ``gait/`` knees 1.37, ankles
-4.5. So an exchange is refused when the crossed pairing leaves less than ``knee_ratio`` (0.8)
-or ``ankle_ratio`` (0.7) times the pairing as given. Which segment was exchanged: thighs and
+4.5 (``benchmarks/results/input_checks.md``; over seeds 201–230 at least 1.14 and 0.98). So an
+exchange is refused when the crossed pairing leaves less than ``knee_ratio`` (0.8) or
+``ankle_ratio`` (0.7) times the pairing as given. Which segment was exchanged: thighs and
 shanks both cross the knees; exchanged shanks also cross the ankles, exchanged thighs do not;
-exchanged feet cross the ankles alone. On those 37 recordings, each with each segment's sensors
+exchanged feet cross the ankles alone. Where the ankles read within ``ankle_margin`` of 1, the
+message names both candidates. On those 37 recordings, each with each segment's sensors
 exchanged: no valid one refused; thighs named 36 of 37 and shanks 37 of 37 (the one miss, with
 artefacts, left the knees at 0.83); feet 17 of 37 (the real walk's among them: ankles that are
 no hinges cross as poorly as they pair). The test costs 0.4–0.7 s per trial (eight hinge fits
@@ -55,6 +57,8 @@ class LegPairingParams:
             (:attr:`~lowerlimb.calibration.options.CalibrationOptions.hinge_starts`).
         max_iter: Gauss–Newton iterations of each start (the test compares residual levels:
             a crossed pair's fit need not converge to tell).
+        ankle_margin: with the knees crossed, the ankles' crossed / as-given ratio within this
+            of 1 cannot tell exchanged thighs from exchanged shanks (valid ankles: 0.98 and up).
     """
 
     knee_ratio: float = 0.8
@@ -63,6 +67,7 @@ class LegPairingParams:
     max_samples: int = 1000
     hinge_starts: int = 1
     max_iter: int = 20
+    ankle_margin: float = 0.05
 
 
 @dataclass(frozen=True)
@@ -75,9 +80,12 @@ class LegPairing:
     ankles_crossed: float
 
     def exchanged(self, params: LegPairingParams) -> str | None:
-        """``"thigh"``, ``"shank"``, ``"foot"`` or ``None``: which segment's sensors are exchanged."""
+        """``"thigh"``, ``"shank"``, ``"thigh or shank"``, ``"foot"`` or ``None``: which are exchanged."""
         if self.knees_crossed < params.knee_ratio * self.knees:
-            return "shank" if self.ankles_crossed < self.ankles else "thigh"
+            ankles = self.ankles_crossed / self.ankles
+            if abs(ankles - 1.0) <= params.ankle_margin:
+                return "thigh or shank"  # the ankles cannot tell
+            return "shank" if ankles < 1.0 else "thigh"
         if self.ankles_crossed < params.ankle_ratio * self.ankles:
             return "shank" if self.knees_crossed < self.knees else "foot"  # both joints lean to crossing
         return None
@@ -90,6 +98,15 @@ class CrossedLegsError(InputError):
         self.segment = segment
         self.as_given, self.crossed = as_given, crossed
         joint = "ankle" if segment == "foot" else "knee"
+        if segment == "thigh or shank":
+            super().__init__(
+                f"the left and right thigh or shank columns look swapped: the two knees fit as hinges "
+                f"with {as_given:.3f} rad/s RMS as given and {crossed:.3f} rad/s with the left and right "
+                f"thigh (or shank) sensors exchanged, and the ankles cannot tell which; exchange the "
+                f"left_thigh_* and right_thigh_* columns or the left_shank_* and right_shank_* ones, "
+                f"whichever were mixed up (or pass --no-order-check if the trial is right)"
+            )
+            return
         super().__init__(
             f"the left_{segment} and right_{segment} columns look swapped: the two {joint}s fit as "
             f"hinges with {as_given:.3f} rad/s RMS as given and {crossed:.3f} rad/s with the left and "
