@@ -19,10 +19,10 @@ exchange is refused when the crossed pairing leaves less than ``knee_ratio`` (0.
 shanks both cross the knees; exchanged shanks also cross the ankles, exchanged thighs do not;
 exchanged feet cross the ankles alone. Where the ankles read within ``ankle_margin`` of 1, the
 message names both candidates. On those 37 recordings, each with each segment's sensors
-exchanged: no valid one refused; thighs named 36 of 37 and shanks 37 of 37 (the one miss, with
-artefacts, left the knees at 0.83); feet 17 of 37 (the real walk's among them: ankles that are
-no hinges cross as poorly as they pair). The test costs 0.4–0.7 s per trial (eight hinge fits
-of 1000 samples).
+exchanged: no valid one refused; thighs named 34 of 37 and shanks 35 of 37, 2 of each as "thigh
+or shank", none wrongly (the miss, with artefacts, left the knees at 0.83); feet 17 of 37 (the
+real walk's among them: ankles that are no hinges cross as poorly as they pair). The test costs
+0.4–0.7 s per trial (eight hinge fits of 1000 samples).
 """
 
 from __future__ import annotations
