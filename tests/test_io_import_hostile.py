@@ -11,6 +11,7 @@ from __future__ import annotations
 import copy
 import json
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -662,3 +663,24 @@ def test_mapped_csv_column_twice_in_the_header_is_refused_when_mapped(tmp_path, 
     lines[0] = lines[0].replace("thigh.ax", "unused", 1).replace(";x;", ";unused;", 1)
     csv_path.write_text("\n".join(lines) + "\n")
     assert read_mapped_csv(csv_path, map_path).n_samples == 300
+
+
+def test_xsens_a_repeated_packet_with_other_readings_is_warned(tmp_path):
+    """A repeated packet is dropped; with other readings than the first, it may be a counter that
+    skipped instead of repeating, so that sensor may be one sample off: said once."""
+    from lowerlimb.io.xsens import RepeatedPacketsWarning
+
+    folder = _export_dir(tmp_path)
+    foot = _foot_export(folder)
+    lines = foot.read_text().splitlines()
+    first_data = next(k for k, ln in enumerate(lines) if ln[:1].isdigit())
+    same = lines[first_data + 50]
+    cells = same.split(",")
+    changed = ",".join([cells[0], *(f"{float(c) + 0.5:.6f}" if c else c for c in cells[1:])])
+    foot.write_text("\n".join([*lines[: first_data + 51], same, *lines[first_data + 51 :]]) + "\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RepeatedPacketsWarning)
+        load_xsens(folder, IDS)  # an identical repeat: dropped without a word
+    foot.write_text("\n".join([*lines[: first_data + 51], changed, *lines[first_data + 51 :]]) + "\n")
+    with pytest.warns(RepeatedPacketsWarning, match="1 PacketCounter value"):
+        load_xsens(folder, IDS)

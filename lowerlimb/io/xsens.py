@@ -69,6 +69,28 @@ _RATE = re.compile(r"update\s*rate\s*:\s*([0-9]*[.,]?[0-9]+)\s*hz", re.IGNORECAS
 _COLUMN_FIX = "export the recording again from MT Manager with PacketCounter, Acc and Gyr enabled"
 
 
+class RepeatedPacketsWarning(UserWarning):
+    """A packet number repeated with other readings: the first kept, the repeats dropped."""
+
+
+def _warn_changed_repeats(path: str, data: FloatArray, keep: np.ndarray) -> None:
+    """Warn when a repeated packet (``~keep``) carries other Acc/Gyr readings than the one kept."""
+    repeats = np.flatnonzero(~keep)
+    if not repeats.size:
+        return
+    kept_index = np.maximum.accumulate(np.where(keep, np.arange(keep.size), 0))
+    changed = int(np.sum(np.any(data[repeats, 1:7] != data[kept_index[repeats], 1:7], axis=1)))
+    if changed:
+        warnings.warn(
+            RepeatedPacketsWarning(
+                f"{path}: {changed} PacketCounter value(s) repeat with other readings; kept the first of "
+                f"each (if the counter skipped rather than repeated, that sensor is one sample off "
+                f"from there: export the recording again)"
+            ),
+            stacklevel=3,
+        )
+
+
 class FilledPacketsWarning(UserWarning):
     """More than a small fraction of the samples were filled by interpolation."""
 
@@ -254,6 +276,7 @@ def parse_xsens_export(path: str | os.PathLike[str]) -> XsensExport:
             f"export the recording again or sort the rows"
         )
     keep = np.concatenate([[True], step > 0])[: counter.size]  # drop repeated packets
+    _warn_changed_repeats(path, data, keep)
     data, counter = data[keep], counter[keep]
     if counter.size < 2:
         raise InputError(f"{path} has {counter.size} packet(s) with Acc and Gyr; export a longer recording")
