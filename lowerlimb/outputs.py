@@ -451,7 +451,7 @@ def _checked_reference(options: CalibrateOptions, files: frozenset[str], time_s:
             f"--reference {options.reference} goes into report.html, which is not written "
             f"(--no-report, or --outputs without report); drop --reference, or write the report"
         )
-    reference = read_reference(options.reference, time_s)
+    reference = read_reference(options.reference, time_s, options.side)
     check_time_overlap(time_s, reference.time_s)
     return reference
 

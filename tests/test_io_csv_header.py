@@ -131,18 +131,6 @@ def test_legs_marked_otherwise_are_told_the_left_right_names(
         ImuTrial.from_csv(path)
 
 
-def test_out_under_a_file_and_contradictory_outputs_are_one_line(
-    one_leg: Path, tmp_path: Path, capsys: pytest.CaptureFixture
-) -> None:
-    afile = tmp_path / "afile"
-    afile.write_text("")
-    assert main(["calibrate", str(one_leg), "--out", str(afile / "sub")]) == 2
-    assert f"{afile} is a file, not a directory" in capsys.readouterr().err
-    out = tmp_path / "o"
-    assert main(["calibrate", str(one_leg), "--out", str(out), "--outputs", "report", "--no-report"]) == 2
-    assert "leave nothing to write" in capsys.readouterr().err and not out.exists()
-
-
 def test_a_header_ending_with_a_comma_over_rows_without_reads(one_leg: Path, tmp_path: Path) -> None:
     lines = one_leg.read_text().splitlines()
     plain = ImuTrial.from_csv(one_leg)

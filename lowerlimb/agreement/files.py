@@ -115,6 +115,7 @@ def read_reference_table(
     time_s: FloatArray | None = None,
     params: AgreementParams | None = None,
     result: CalibrateOutputs | None = None,
+    side: str | None = None,
 ) -> Table:
     """Read a reference CSV (:func:`read_time_table`), check its columns, then its time column.
 
@@ -125,6 +126,7 @@ def read_reference_table(
         params: thresholds; defaults to :class:`AgreementParams`.
         result: the result folder compared with, to name why no column is ours (its leg, its
             missing tables: :func:`~lowerlimb.agreement.columns.no_common_columns_error`).
+        side: the leg compared with when there is no ``result`` yet (``calibrate --reference``).
 
     Raises:
         FileNotFoundError: the file does not exist.
@@ -140,7 +142,7 @@ def read_reference_table(
             list(our_columns),
             str(path),
             directory="" if result is None else str(result.directory),
-            side=None if result is None else result.side,
+            side=side if result is None else result.side,
             missing_tables=() if result is None else result.missing_tables,
         )
     check_reference_time(table.time_s, time_s=time_s, path=str(path), params=params)

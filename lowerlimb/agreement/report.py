@@ -29,10 +29,13 @@ RESULT_COLUMN_UNITS: dict[str, str] = {c: ANGLE_UNIT for c in ANGLE_COLUMNS[1:]}
 _GROUPS = {ANGLE_UNIT: "Joint angles", POSITION_UNIT: "Positions"}
 
 
-def read_reference(path: str | os.PathLike[str], time_s: FloatArray | None = None) -> Table:
+def read_reference(
+    path: str | os.PathLike[str], time_s: FloatArray | None = None, side: str | None = None
+) -> Table:
     """Read a reference CSV and check that it shares a column with ``angles.csv``/``positions.csv``.
 
-    ``time_s``, (N,) our sample times, s, when known, is quoted in a time-unit error.
+    ``time_s``, (N,) our sample times, s, when known, is quoted in a time-unit error; ``side``, the
+    leg calibrated, names a reference of the other leg as such.
 
     Raises:
         FileNotFoundError: the file does not exist.
@@ -40,7 +43,7 @@ def read_reference(path: str | os.PathLike[str], time_s: FloatArray | None = Non
             strictly increasing or in ms (:func:`~lowerlimb.agreement.files.read_reference_table`).
         NoCommonColumnsError: none of its columns is one of ours (checked before the time).
     """
-    return read_reference_table(path, our_columns=list(RESULT_COLUMN_UNITS), time_s=time_s)
+    return read_reference_table(path, our_columns=list(RESULT_COLUMN_UNITS), time_s=time_s, side=side)
 
 
 def compare_result(
