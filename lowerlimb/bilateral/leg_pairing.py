@@ -30,11 +30,9 @@ from __future__ import annotations
 import warnings
 from dataclasses import dataclass
 
-import numpy as np
-from scipy.signal import butter, sosfiltfilt
-
 from lowerlimb.calibration.hinge_axis import fit_hinge_axis
 from lowerlimb.calibration.options import CalibrationOptions
+from lowerlimb.constraints.prefilter import lowpass
 from lowerlimb.conventions import FloatArray
 from lowerlimb.errors import InputError
 from lowerlimb.io.bilateral_trial import BilateralTrial
@@ -115,27 +113,34 @@ class CrossedLegsError(InputError):
         )
 
 
-def _hinge_rms(gyr_p: FloatArray, gyr_c: FloatArray, rate_hz: float, params: LegPairingParams) -> float:
-    """RMS residual of the gyro-only hinge fit of two sensors (Hu 2021 eq. 12), rad/s."""
-    sos = butter(2, min(params.lowpass_hz, 0.45 * rate_hz), fs=rate_hz, output="sos")
-    step = max(1, len(gyr_p) // params.max_samples)
-    wp, wc = (np.asarray(sosfiltfilt(sos, g, axis=0))[::step] for g in (gyr_p, gyr_c))
+def _hinge_rms(wp: FloatArray, wc: FloatArray, rate_hz: float, params: LegPairingParams) -> float:
+    """RMS residual of the gyro-only hinge fit of two sensors' prepared gyros (Hu 2021 eq. 12), rad/s.
+
+    ``wp``, ``wc``: (M, 3) low-passed, subsampled gyros, rad/s; ``rate_hz``: their rate, Hz.
+    """
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         options = CalibrationOptions(hinge_starts=params.hinge_starts, max_iter=params.max_iter)
-        fit = fit_hinge_axis(wp, wc, rate_hz=rate_hz / step, method="gn", options=options)
+        fit = fit_hinge_axis(wp, wc, rate_hz=rate_hz, method="gn", options=options)
     return float(fit.rms_residual)
 
 
 def leg_pairing(trial: BilateralTrial, params: LegPairingParams | None = None) -> LegPairing:
     """The knees' and ankles' hinge residuals of a two-leg trial, as given and crossed."""
     p = params or LegPairingParams()
-    g, rate = trial.gyr, trial.rate_hz
+    rate = trial.rate_hz
+    step = max(1, trial.time_s.size // p.max_samples)
+    cut = min(p.lowpass_hz, 0.45 * rate)
+    g = {  # each leg sensor's gyro low-passed and subsampled once
+        f"{side}_{seg}": lowpass(trial.gyr[f"{side}_{seg}"], rate, cut, order=2)[::step]
+        for side in ("left", "right")
+        for seg in ("thigh", "shank", "foot")
+    }
 
     def pair(upper: str, lower: str, crossed: bool) -> float:
         other = {"left": "right", "right": "left"}
         return sum(
-            _hinge_rms(g[f"{side}_{upper}"], g[f"{other[side] if crossed else side}_{lower}"], rate, p)
+            _hinge_rms(g[f"{side}_{upper}"], g[f"{other[side] if crossed else side}_{lower}"], rate / step, p)
             for side in ("left", "right")
         )
 

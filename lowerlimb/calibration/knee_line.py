@@ -239,13 +239,12 @@ def moving_axis_mismatch(
         rate_hz: sampling rate, Hz.
         lowpass_hz: the low-pass cut-off applied to both accelerometers first, Hz.
     """
-    from scipy.signal import butter, sosfiltfilt
+    from lowerlimb.constraints.prefilter import lowpass
 
-    sos = butter(2, min(lowpass_hz, 0.45 * rate_hz), fs=rate_hz, output="sos")
     e = []
     for j, a in ((knee.axis_in_parent_sensor, acc_thigh), (knee.axis_in_child_sensor, acc_shank)):
         a = np.asarray(a, dtype=float)
-        low = sosfiltfilt(sos, a, axis=0)
+        low = lowpass(a, rate_hz, min(lowpass_hz, 0.45 * rate_hz), order=2)
         g = max(float(np.median(np.linalg.norm(a, axis=1))), 1e-9)  # the low-pass shrinks the turning part
         e.append(np.arcsin(np.clip(low @ np.asarray(j, dtype=float) / g, -1.0, 1.0)))
     return float(np.median(e[0] - e[1]))
