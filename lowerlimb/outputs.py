@@ -280,6 +280,8 @@ class CalibrateOptions:
         outputs: short names (:data:`OUTPUT_FILES`) of the files to write.
         smooth_orientation: filter each sensor forward and backward in time (offline);
             ``False`` (``--causal``): forward only, as in real time.
+        parallel_legs: with two legs, the right leg in a second process beside the left
+            (:mod:`lowerlimb.bilateral.leg_runner`); ``False`` (``--one-core``): one after the other.
     """
 
     trial: Path
@@ -303,6 +305,7 @@ class CalibrateOptions:
     reference: Path | None = None
     outputs: frozenset[str] = frozenset(OUTPUT_FILES)
     smooth_orientation: bool = True
+    parallel_legs: bool = True
 
     def calibration_options(self) -> CalibrationOptions:
         """The joint-calibration options these command-line options choose (one and two legs)."""

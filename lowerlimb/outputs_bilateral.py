@@ -328,6 +328,7 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
             calibration_options=options.calibration_options(),
             side_check=options.side_check,
             smooth_orientation=options.smooth_orientation,
+            parallel_legs=options.parallel_legs,
         )
     _print_warnings(read_warnings + caught)
     write_bilateral_result(

@@ -127,6 +127,7 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
             calibration_options=_options(p),
             smooth_orientation=p.smooth_orientation,
             side_check=p.side_check,
+            parallel_legs=False,  # the study's trials already fill the cores
         )
         return bilateral_key_results(both), lambda d: _write_two_legs(both, d, p.outputs)
     if trial.side == "both":

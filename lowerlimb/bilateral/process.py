@@ -53,6 +53,7 @@ from ..segments.tracking import track_segments
 from .gait import BilateralGait, analyse_gait
 from .hips import HipCheck, HipParams, HipSpacingWarning, check_hips
 from .leg_pairing import check_leg_pairing
+from .leg_runner import LegWarning, recorded, run_two_legs
 from .pelvis import OppositeKneesError, OppositeKneesWarning, PelvisParams, SharedPelvis, shared_pelvis
 
 __all__ = ["BilateralResult", "BilateralSideError", "process_bilateral_trial"]
@@ -273,7 +274,7 @@ def _check_pair_sides(
 
 def _process_leg(
     trial: BilateralTrial, side: str, note: str = "", **kwargs: Any
-) -> tuple[TrialResult, list[warnings.WarningMessage]]:
+) -> tuple[TrialResult, list[LegWarning]]:
     """One leg through the single-leg pipeline, with the warnings it raised (to re-issue per side).
 
     With ``progress``, its stage lines follow a line naming the leg (and ``note``).
@@ -283,7 +284,8 @@ def _process_leg(
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            return process_trial(trial.leg(side), leg_gait=False, **kwargs), list(caught)
+            result = process_trial(trial.leg(side), leg_gait=False, **kwargs)
+        return result, recorded(caught)
     except WrongSideError as e:
         raise BilateralSideError(side, e.lateral_m) from None
     except SensorOrderError as e:
@@ -292,9 +294,7 @@ def _process_leg(
         raise InputError(f"{side} leg (pelvis and {side}_*): {e}") from None
 
 
-def _leg_warnings(
-    caught: dict[str, list[warnings.WarningMessage]],
-) -> list[tuple[str, type[Warning]]]:
+def _leg_warnings(caught: dict[str, list[LegWarning]]) -> list[tuple[str, type[Warning]]]:
     """Each leg's warnings once, naming the leg; one both legs raised alike, once without a side."""
     both = {(str(w.message), w.category) for w in caught["left"]}
     both &= {(str(w.message), w.category) for w in caught["right"]}
@@ -379,6 +379,7 @@ def process_bilateral_trial(
     gait_params: GaitParams | None = None,
     one_pelvis: bool = True,
     pelvis_params: PelvisParams | None = None,
+    parallel_legs: bool = True,
 ) -> BilateralResult:
     """Calibrate both legs of a seven-IMU trial; angles, positions, hips and gait.
 
@@ -399,6 +400,9 @@ def process_bilateral_trial(
             (:mod:`lowerlimb.bilateral.pelvis`); False keeps each leg's own (the single-leg
             results side by side).
         pelvis_params: uncertainties of the shared pelvis.
+        parallel_legs: run the right leg in a forked child process while this one runs the
+            left (:mod:`lowerlimb.bilateral.leg_runner`; where that is not possible, or
+            False, one after the other; the results are the same).
 
     Raises:
         InputError: swapped columns (``BilateralSideError``, ``SensorOrderError`` with the
@@ -427,15 +431,17 @@ def process_bilateral_trial(
         "positions": not one_pelvis,  # the one-pelvis stage recomputes them
         "gait_params": gait_params,
     }
-    legs: dict[str, TrialResult] = {}
-    caught: dict[str, list[warnings.WarningMessage]] = {}
-    legs["left"], caught["left"] = _process_leg(trial, "left", use_mag=mag, **kwargs)
-    legs["right"], caught["right"] = _process_leg(
-        trial, "right", use_mag=mag and legs["left"].used_mag, **kwargs
-    )
+    t0 = time.perf_counter()
+    both = run_two_legs(lambda side: _process_leg(trial, side, use_mag=mag, **kwargs), parallel_legs)
+    legs = {side: both[side][0] for side in SIDES}
+    caught = {side: both[side][1] for side in SIDES}
+    if mag and not legs["left"].used_mag and legs["right"].used_mag:  # the left field was rejected
+        again = " again, without the magnetometer (the left leg's field was disturbed)"
+        legs["right"], caught["right"] = _process_leg(trial, "right", again, use_mag=False, **kwargs)
     if legs["left"].used_mag and not legs["right"].used_mag:  # the right field was rejected
         again = " again, without the magnetometer (the right leg's field was disturbed)"
         legs["left"], caught["left"] = _process_leg(trial, "left", again, use_mag=False, **kwargs)
+    legs_wall_s = time.perf_counter() - t0
     # the angles are judged once the legs share their pelvis (below)
     caught = {s: [w for w in c if w.category is not ImplausibleAnglesWarning] for s, c in caught.items()}
     for message, category in _leg_warnings(caught):
@@ -444,6 +450,7 @@ def process_bilateral_trial(
     for side, r in legs.items():
         for k, v in r.timings_s.items():
             timings[f"{side}: {k}"] = v
+    timings["both legs"] = legs_wall_s  # side by side: less than the sum of the two
     if side_check:
         _check_pair_sides(legs, height_m, hip_params, pelvis_params)
     pelvis = None

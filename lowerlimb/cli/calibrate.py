@@ -74,6 +74,13 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "neighbours (the sign of its accelerometer or gyro inverted)",
     )
     p.add_argument(
+        "--one-core",
+        action="store_true",
+        help="with two legs, calibrate the legs one after the other in this process (by default the "
+        "right leg runs in a second process beside the left where the machine has two cores; the "
+        "results are the same)",
+    )
+    p.add_argument(
         "--no-clock-sync",
         action="store_true",
         help="do not estimate the sensors' clock offsets from the joints (by default, offsets that "
@@ -160,6 +167,7 @@ def run(args: argparse.Namespace) -> int:
         reference=args.reference,
         outputs=chosen_outputs(args),
         smooth_orientation=not args.causal,
+        parallel_legs=not args.one_core,
     )
     if two_legs:
         from lowerlimb.outputs_bilateral import run_calibrate_bilateral

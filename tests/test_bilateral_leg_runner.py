@@ -1,0 +1,124 @@
+"""The two legs side by side (lowerlimb.bilateral.leg_runner): same results, errors raised as without a child.
+
+The side-by-side path forks, which the runner refuses in a process with other threads (a
+pytest-xdist worker has them), so it is tested in a fresh interpreter.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import textwrap
+import threading
+
+import pytest
+
+from lowerlimb.bilateral.leg_runner import LegWarning, run_two_legs, side_by_side_possible
+
+
+def _fresh(code: str) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1"}
+    return subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, env=env, timeout=300
+    )
+
+
+def test_one_after_the_other_in_order_in_this_process():
+    order: list[str] = []
+
+    def run(side: str) -> tuple[int, list[LegWarning]]:
+        order.append(side)
+        return os.getpid(), [LegWarning(side, UserWarning)]
+
+    legs = run_two_legs(run, parallel=False)
+    assert order == ["left", "right"]
+    assert legs["right"] == (os.getpid(), [LegWarning("right", UserWarning)])
+
+
+def test_no_fork_while_another_thread_runs():
+    stop = threading.Event()
+    thread = threading.Thread(target=stop.wait)
+    thread.start()
+    try:
+        assert not side_by_side_possible()
+        legs = run_two_legs(lambda side: (os.getpid(), []), parallel=True)
+        assert legs["left"][0] == legs["right"][0] == os.getpid()
+    finally:
+        stop.set()
+        thread.join()
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux") or (os.cpu_count() or 1) < 2, reason="no fork")
+def test_side_by_side_the_right_leg_runs_in_a_child_and_its_lines_follow_the_left():
+    out = _fresh(
+        """
+        import os, sys
+        from lowerlimb.bilateral.leg_runner import LegWarning, run_two_legs
+        def run(side):
+            print(f"{side} line", file=sys.stderr)
+            return os.getpid(), [LegWarning(f"{side} warned", RuntimeWarning)]
+        legs = run_two_legs(run)
+        print(legs["left"][0] == os.getpid(), legs["right"][0] != os.getpid(), legs["right"][1])
+        """
+    )
+    assert out.returncode == 0, out.stderr
+    relayed = "[LegWarning(message='right warned', category=<class 'RuntimeWarning'>)]"
+    assert out.stdout.split("\n")[0] == f"True True {relayed}"
+    assert out.stderr.splitlines() == ["left line", "right line"]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux") or (os.cpu_count() or 1) < 2, reason="no fork")
+def test_side_by_side_a_failing_leg_is_raised_here_with_its_type_and_data():
+    out = _fresh(
+        """
+        import os
+        from lowerlimb.bilateral.leg_runner import run_two_legs
+        class Odd(Exception):  # its constructor's arguments are not its args: it does not unpickle
+            def __init__(self, value):
+                super().__init__(f"odd {value}")
+                self.value = value
+        r, w = os.pipe()
+        def run(side):
+            if side == "right":
+                os.write(w, f"{os.getpid()} ".encode())
+                raise Odd(os.getpid())
+            return 0, []
+        try:
+            run_two_legs(run)
+        except Odd as e:
+            os.close(w)
+            tried = os.read(r, 1000).decode().split()
+            print(e.value == os.getpid(), len(set(tried)))
+        """
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["True", "2"]  # tried in the child, raised from here
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux") or (os.cpu_count() or 1) < 2, reason="no fork")
+def test_side_by_side_and_one_after_the_other_give_the_same_two_legs():
+    out = _fresh(
+        """
+        import sys, warnings
+        import numpy as np
+        sys.path.insert(0, "tests")
+        from bilateral_sim import simulate_two_legs
+        from lowerlimb.bilateral import process_bilateral_trial
+        trial = simulate_two_legs(7, 20.0).trial
+        runs = {}
+        for parallel in (True, False):
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                r = process_bilateral_trial(trial, parallel_legs=parallel)
+            runs[parallel] = r, sorted(str(w.message) for w in caught)
+        (a, wa), (b, wb) = runs[True], runs[False]
+        same = np.array_equal(a.angles_rad, b.angles_rad), np.array_equal(a.positions_m, b.positions_m)
+        print(*same, wa == wb)
+        for side in ("left", "right"):
+            print(np.array_equal(a.legs[side].calibration.knee.axis_in_parent_sensor,
+                                 b.legs[side].calibration.knee.axis_in_parent_sensor))
+        """
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["True", "True", "True", "True", "True"]
