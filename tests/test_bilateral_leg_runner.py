@@ -1,4 +1,4 @@
-"""The two legs side by side (lowerlimb.bilateral.leg_runner): same results, errors raised as without a child.
+"""Side by side (lowerlimb.side_by_side, bilateral.leg_runner): same results, errors raised as without it.
 
 The side-by-side path forks, which the runner refuses in a process with other threads (a
 pytest-xdist worker has them), so it is tested in a fresh interpreter.
@@ -14,7 +14,8 @@ import threading
 
 import pytest
 
-from lowerlimb.bilateral.leg_runner import LegWarning, run_two_legs, side_by_side_possible
+from lowerlimb.bilateral.leg_runner import LegWarning, run_two_legs
+from lowerlimb.side_by_side import possible, set_enabled
 
 
 def _fresh(code: str) -> subprocess.CompletedProcess[str]:
@@ -41,12 +42,20 @@ def test_no_fork_while_another_thread_runs():
     thread = threading.Thread(target=stop.wait)
     thread.start()
     try:
-        assert not side_by_side_possible()
+        assert not possible()
         legs = run_two_legs(lambda side: (os.getpid(), []), parallel=True)
         assert legs["left"][0] == legs["right"][0] == os.getpid()
     finally:
         stop.set()
         thread.join()
+
+
+def test_turned_off_it_runs_here():
+    set_enabled(False)
+    try:
+        assert not possible()
+    finally:
+        set_enabled(True)
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux") or (os.cpu_count() or 1) < 2, reason="no fork")
@@ -60,9 +69,12 @@ def test_side_by_side_the_right_leg_runs_in_a_child_and_its_lines_follow_the_lef
             return os.getpid(), [LegWarning(f"{side} warned", RuntimeWarning)]
         legs = run_two_legs(run)
         print(legs["left"][0] == os.getpid(), legs["right"][0] != os.getpid(), legs["right"][1])
+        from lowerlimb.side_by_side import possible, side_by_side
+        print(side_by_side(possible, possible))  # no grandchildren
         """
     )
     assert out.returncode == 0, out.stderr
+    assert out.stdout.split("\n")[1] == "(True, False)"
     relayed = "[LegWarning(message='right warned', category=<class 'RuntimeWarning'>)]"
     assert out.stdout.split("\n")[0] == f"True True {relayed}"
     assert out.stderr.splitlines() == ["left line", "right line"]
@@ -122,3 +134,30 @@ def test_side_by_side_and_one_after_the_other_give_the_same_two_legs():
     )
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["True", "True", "True", "True", "True"]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux") or (os.cpu_count() or 1) < 2, reason="no fork")
+def test_the_report_is_the_same_page_with_its_figures_side_by_side():
+    out = _fresh(
+        """
+        import re, sys, tempfile
+        from pathlib import Path
+        sys.path.insert(0, "tests")
+        from simcache import cached_simulation
+        import lowerlimb.side_by_side as sbs
+        from lowerlimb.viz.report import write_report
+        sim = cached_simulation("walk", 20.0, 1)
+        pages = []
+        with tempfile.TemporaryDirectory() as d:
+            for flag in (True, False):
+                sbs.set_enabled(flag)
+                path = Path(d) / f"{flag}.html"
+                write_report(path, model=sim.model, time_s=sim.trial.time_s, angles_rad=sim.angles_rad,
+                             positions_m=sim.positions_m, calibration=sim.model.calibration_dict("casadi"))
+                pages.append(path.read_text())
+        pngs = [re.findall(r"data:image/png;base64,[A-Za-z0-9+/=]+", page) for page in pages]
+        print(pngs[0] == pngs[1], len(pngs[0]))  # the scene's object ids differ from run to run
+        """
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["True", "3"]

@@ -34,6 +34,7 @@ from lowerlimb.model.fallback import segment_lengths
 from lowerlimb.outputs import read_calibration, write_outputs
 from lowerlimb.outputs_bilateral import write_bilateral_outputs
 from lowerlimb.pipeline import TrialResult, process_trial
+from lowerlimb.side_by_side import set_enabled
 
 from .params import BatchParams
 from .record import MARKER, TrialJob, TrialOutcome
@@ -51,6 +52,7 @@ def run_trial(job: TrialJob) -> TrialOutcome:
     or seven (both legs, :func:`lowerlimb.bilateral.process_bilateral_trial`; the manifest's
     ``side`` does not apply and ``calibration`` reuse is refused).
     """
+    set_enabled(False)  # the study's trials already fill the cores
     t0, cpu0 = time.perf_counter(), time.process_time()
     trial = job.trial
     try:

@@ -9,6 +9,7 @@ from lowerlimb.cli._common import EXIT_OK, add_outputs, add_side, chosen_outputs
 from lowerlimb.errors import InputError
 from lowerlimb.export.formats import EXPORT_FORMATS
 from lowerlimb.methods import CALIBRATION_METHODS, CENTRE_FORMS, ORIENTATION_FILTERS
+from lowerlimb.side_by_side import set_enabled
 
 
 def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -76,9 +77,9 @@ def add_parser(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) 
     p.add_argument(
         "--one-core",
         action="store_true",
-        help="with two legs, calibrate the legs one after the other in this process (by default the "
-        "right leg runs in a second process beside the left where the machine has two cores; the "
-        "results are the same)",
+        help="work in this process alone: by default, where the machine has two cores, the right leg "
+        "of a two-leg trial and one of the report's figures are computed in a second process beside "
+        "this one (the results are the same)",
     )
     p.add_argument(
         "--no-clock-sync",
@@ -169,6 +170,8 @@ def run(args: argparse.Namespace) -> int:
         smooth_orientation=not args.causal,
         parallel_legs=not args.one_core,
     )
+    if args.one_core:
+        set_enabled(False)  # the report's figures too
     if two_legs:
         from lowerlimb.outputs_bilateral import run_calibrate_bilateral
 
