@@ -10,8 +10,8 @@ The work runs one piece after the other instead where side by side is not safe o
 possible (:func:`possible`): fewer than two cores, no ``fork`` start method or not Linux
 (macOS's ``fork`` is unsafe with its system libraries), a process that already runs other
 threads (a Dask worker: ``fork`` copies no thread but the calling one and can deadlock on
-their locks), a daemonic process (which may not have children), a forked child itself (no
-nesting: two cores, two processes), or a process that turned it off (:func:`set_enabled`;
+their locks), a daemonic process (which may not have children), work nested in side-by-side
+work, in the child or here (two cores, two processes), or a process that turned it off (:func:`set_enabled`;
 ``lowerlimb calibrate --one-core``, and every ``batch`` worker, whose trials already fill the
 cores). A child that fails, in any way, leaves its piece to be run again here, so an error is
 raised from this process, with its own type and data, as without the child.
@@ -95,7 +95,11 @@ def side_by_side(first: Callable[[], A], second: Callable[[], B], parallel: bool
     send.close()
     sent = None
     try:
-        value = first()
+        set_enabled(False)  # the two cores are busy: ``first`` runs its own work one after the other
+        try:
+            value = first()
+        finally:
+            set_enabled(True)
         with contextlib.suppress(EOFError, OSError):  # else the child died without a word
             sent = receive.recv()
     finally:

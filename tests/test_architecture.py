@@ -22,7 +22,7 @@ ROOT = Path(__file__).resolve().parents[1]
 #: a unit may import its own modules and any unit of a LOWER layer, never one of its
 #: own layer or above. ``lowerlimb`` itself (the version) is below everything.
 LAYERS: list[set[str]] = [
-    {"conventions", "methods"},
+    {"conventions", "methods", "side_by_side"},
     {"errors"},
     {"stillness"},
     {"io", "upsample"},
