@@ -147,7 +147,8 @@ def report(results: dict[str, dict[str, object]], repeats: int, note: str = "") 
         "process (interpreter start and imports included, numba cache warm); warm: a later "
         f"trial in the same process. Best of {repeats} processes; 2 cores shared with other "
         "work (load average in the last row), so wall times are inflated: `cpu` is the CPU time "
-        "of the same run (the work is single-threaded), what an idle core would take.",
+        "of the same run in this process (the report's second figure grid is drawn in a forked "
+        "child beside it, `lowerlimb.side_by_side`, and not counted).",
         "",
         "| stage (s) | " + " | ".join(f"{m} min cold | {m} min warm" for m in results) + " |",
         "|---|" + "---|---|" * len(results),
