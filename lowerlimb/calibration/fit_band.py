@@ -51,7 +51,9 @@ estimates disagree at standing by more than ``fit_band_max_mismatch_deg``
 (:func:`axis_mismatch_reason`, checked as soon as the knee is fitted; the knee's own
 mismatch warning then says so), or a segment is implausible (:func:`implausible_segment`,
 with a warning of its own). The coherent fit is kept beside a widened one
-(``LegCalibration.coherent_fit``) for the clock search. A trial without a standing start
+(``LegCalibration.coherent_fit``) for the clock search. With two cores the widened fit runs
+beside the coherent one, in a forked child dropped where no cap binds
+(:class:`~lowerlimb.side_by_side.Beside`); the fits are the same. A trial without a standing start
 reads the knee's mismatch over the motion instead (:func:`moving_mismatch_reason`,
 :func:`~lowerlimb.calibration.knee_line.moving_axis_mismatch`; since 0.5.15): the simulated
 two-leg walks cut mid-stride are widened as their whole walks are and land within 2 mm of

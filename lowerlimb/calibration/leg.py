@@ -68,6 +68,7 @@ from lowerlimb.constraints.spherical import SphericalData
 from lowerlimb.conventions import JOINT_SENSORS, SENSORS, FloatArray
 from lowerlimb.errors import InputError
 from lowerlimb.io.saturation import at_limit_samples
+from lowerlimb.side_by_side import Beside
 from lowerlimb.stillness import StillPeriod, detect_still_period
 from lowerlimb.upsample import upsample_factor, upsampled, upsampled_still
 
@@ -360,10 +361,13 @@ class _CheckedLeg:
 def _fit_in_band(leg: _CheckedLeg, opts: CalibrationOptions) -> LegCalibration:
     """The leg fitted with widened rigid-band caps where a standing start shows rigid sensors, else as given.
 
-    See :mod:`~lowerlimb.calibration.fit_band`. The coherent band's fit comes first; the
-    widened one is tried only where a cap lowered a cut-off, and stops as soon as its knee
-    shows an axis mismatch. Only the kept fit is probed and only its warnings are issued; a
-    leg refitted for an implausible segment also gets the fit band's warning.
+    See :mod:`~lowerlimb.calibration.fit_band`. The coherent band's fit decides; the widened
+    one counts only where a cap lowered a cut-off, and stops as soon as its knee shows an axis
+    mismatch. Where the machine has two cores the widened fit runs beside the coherent one
+    (:class:`~lowerlimb.side_by_side.Beside`: a forked child, dropped where no cap binds), else
+    after it, only where needed; the fits are the same. Only the kept fit is probed and only
+    its warnings are issued; a leg refitted for an implausible segment also gets the fit
+    band's warning.
     """
     n = leg.still.samples(opts.still_min_s) if leg.still is not None else 0
     caps = opts.prefilter and opts.rigid_band and opts.cutoff_hz is None  # else nothing to widen
@@ -374,32 +378,21 @@ def _fit_in_band(leg: _CheckedLeg, opts: CalibrationOptions) -> LegCalibration:
     if n == 0 and not opts.fit_band_without_standing:
         fit = _fit_leg(leg, opts)
         return _kept(leg, fit, replace(fit.cal.fit_band, factor=factor, reason=NO_STANDING_START), [])
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        coherent = _fit_leg(leg, opts)
-    capped = coherent.cal.fit_band.capped
-    if not capped:
-        return _kept(leg, coherent, FitBand(factor, reason=NO_CAP_BINDS), caught)
-
-    def rigid_knee(knee: HingeJointCalibration) -> None:
-        reason = (
-            axis_mismatch_reason(
-                knee, leg.acc["thigh"][:n].mean(axis=0), leg.acc["shank"][:n].mean(axis=0), opts
-            )
-            if n
-            else moving_mismatch_reason(knee, leg.acc["thigh"], leg.acc["shank"], leg.rate, opts)
-        )
-        if reason is not None:
-            raise _NotRigid(reason)
-
-    try:
-        with warnings.catch_warnings(record=True) as caught_wide:
+    rigid_knee = _rigid_knee(leg, n, opts)
+    # the widened fit is started beside the coherent one (lowerlimb.side_by_side) and dropped
+    # where no cap binds: the same fits as one after the other, in the time of one
+    with Beside(lambda: _widened(leg, opts, rigid_knee)) as beside:
+        with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            # the sensor order was checked by the coherent fit
-            wide = _fit_leg(leg, replace(widened_caps(opts), check_sensor_order=False), rigid_knee)
-        reason = implausible_segment(wide.cal, opts)
-    except _NotRigid as e:  # the knee's own mismatch warning says so: no warning of the band's
-        return _kept(leg, coherent, FitBand(factor, reason=str(e), capped=capped), caught)
+            coherent = _fit_leg(leg, opts)
+        capped = coherent.cal.fit_band.capped
+        if not capped:
+            return _kept(leg, coherent, FitBand(factor, reason=NO_CAP_BINDS), caught)
+        tried = beside.value()
+    if tried.fit is None:  # the knee's own mismatch warning says so: no warning of the band's
+        return _kept(leg, coherent, FitBand(factor, reason=tried.not_rigid, capped=capped), caught)
+    wide, caught_wide = tried.fit, tried.caught
+    reason = implausible_segment(wide.cal, opts)
     if reason is None:
         kept = _kept(leg, wide, FitBand(factor, widened=True, capped=capped), caught_wide)
         return replace(kept, coherent_fit=replace(coherent.cal, fit_band=kept.fit_band))
@@ -413,6 +406,52 @@ def _fit_in_band(leg: _CheckedLeg, opts: CalibrationOptions) -> LegCalibration:
             return replace(cal, knee=_with_warning(cal.knee, band.uncapped_message(coherent_reason)))
     cal = _kept(leg, coherent, band, caught)
     return replace(cal, knee=_with_warning(cal.knee, band.fallback_message()))
+
+
+def _rigid_knee(
+    leg: _CheckedLeg, n: int, opts: CalibrationOptions
+) -> Callable[[HingeJointCalibration], None]:
+    """The test that stops a fit whose knee shows sensors that are not rigid (raises :class:`_NotRigid`).
+
+    With a standing start of ``n`` samples it reads the knee's axis mismatch there, else over
+    the motion (:mod:`~lowerlimb.calibration.fit_band`).
+    """
+
+    def rigid_knee(knee: HingeJointCalibration) -> None:
+        reason = (
+            axis_mismatch_reason(
+                knee, leg.acc["thigh"][:n].mean(axis=0), leg.acc["shank"][:n].mean(axis=0), opts
+            )
+            if n
+            else moving_mismatch_reason(knee, leg.acc["thigh"], leg.acc["shank"], leg.rate, opts)
+        )
+        if reason is not None:
+            raise _NotRigid(reason)
+
+    return rigid_knee
+
+
+@dataclass(frozen=True)
+class _Widened:
+    """The widened band's fit and its warnings, or why its knee stopped it (``fit`` ``None``)."""
+
+    fit: _Fit | None
+    not_rigid: str | None
+    caught: list[warnings.WarningMessage]
+
+
+def _widened(
+    leg: _CheckedLeg, opts: CalibrationOptions, rigid_knee: Callable[[HingeJointCalibration], None]
+) -> _Widened:
+    """The leg fitted with the caps widened, its warnings recorded, unless its knee is not rigid."""
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            # the sensor order is checked by the coherent fit
+            wide = _fit_leg(leg, replace(widened_caps(opts), check_sensor_order=False), rigid_knee)
+    except _NotRigid as e:
+        return _Widened(None, str(e), [])
+    return _Widened(wide, None, list(caught))
 
 
 def _uncapped_fit(

@@ -1,4 +1,4 @@
-"""Side by side (lowerlimb.side_by_side, bilateral.leg_runner): same results, errors raised as without it.
+"""Side by side (lowerlimb.side_by_side): the same results, errors raised as without a child.
 
 The side-by-side path forks, which the runner refuses in a process with other threads (a
 pytest-xdist worker has them), so it is tested in a fresh interpreter.
@@ -161,3 +161,85 @@ def test_the_report_is_the_same_page_with_its_figures_side_by_side():
     )
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["True", "3"]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux") or (os.cpu_count() or 1) < 2, reason="no fork")
+def test_work_beside_is_dropped_when_not_needed_and_run_here_when_the_child_fails(tmp_path):
+    out = _fresh(
+        f"""
+        import os, time
+        from pathlib import Path
+        from lowerlimb.side_by_side import Beside, possible
+        mark = Path({str(tmp_path)!r}) / "late"
+        def slow():
+            time.sleep(1.0)
+            mark.write_text("ran")
+            return os.getpid()
+        with Beside(slow) as beside:
+            inside = possible()
+        time.sleep(1.5)
+        print(inside, mark.exists(), possible())  # dropped: it never finished
+        with Beside(lambda: os.getpid()) as beside:
+            print(beside.value() != os.getpid())  # taken from the child
+        with Beside(lambda: 1 / 0) as beside:
+            try:
+                beside.value()
+            except ZeroDivisionError:
+                print("raised here")
+        """
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.splitlines() == ["False False True", "True", "raised here"]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux") or (os.cpu_count() or 1) < 2, reason="no fork")
+def test_the_widened_fit_beside_the_coherent_one_gives_the_same_leg():
+    out = _fresh(
+        """
+        import warnings
+        import numpy as np
+        import lowerlimb.side_by_side as sbs
+        from lowerlimb.pipeline import process_trial
+        from lowerlimb.simulation import simulate_bilateral
+        trial = simulate_bilateral(40.0, 201).trial.leg("left")
+        runs = []
+        for flag in (True, False):
+            sbs.set_enabled(flag)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                r = process_trial(trial, leg_gait=False)
+            runs.append((r, sorted(str(w.message) for w in caught)))
+        (a, wa), (b, wb) = runs
+        c, d = a.calibration, b.calibration
+        same = np.array_equal
+        print(c.fit_band.widened, c.fit_band == d.fit_band, same(a.angles_rad, b.angles_rad), wa == wb)
+        print(same(c.hip.center_in_child_sensor, d.hip.center_in_child_sensor),
+              same(c.coherent_fit.knee.axis_in_parent_sensor, d.coherent_fit.knee.axis_in_parent_sensor))
+        """
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["True"] * 6
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux") or (os.cpu_count() or 1) < 2, reason="no fork")
+def test_a_dropped_child_blocked_on_a_large_value_ends_and_raw_threads_forbid_forking():
+    out = _fresh(
+        """
+        import _thread, signal, time
+        import numpy as np
+        from lowerlimb.side_by_side import Beside, possible
+        def stop(signum, frame):  # as the command line does: SIGTERM raises
+            raise SystemExit(143)
+        signal.signal(signal.SIGTERM, stop)
+        t0 = time.perf_counter()
+        with Beside(lambda: np.ones(4_000_000)) as beside:
+            time.sleep(1.0)  # the child is blocked sending 32 MB nobody reads
+        print(time.perf_counter() - t0 < 10.0)
+        with Beside(lambda: np.ones(4_000_000)) as beside:
+            print(float(beside.value().sum()))
+        _thread.start_new_thread(time.sleep, (5.0,))  # a thread threading does not count
+        print(possible())
+        """
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["True", "4000000.0", "False"]
