@@ -39,3 +39,10 @@ def test_a_walk_stamped_in_ms_at_148_hz_reads_at_148_hz(tmp_path):
     back = ImuTrial.from_csv(path)
     assert np.unique(np.round(np.diff(back.time_s), 6)).size == 2  # 6 and 7 ms, kept as stamped
     assert back.rate_hz == pytest.approx(148.0, rel=1e-3)
+
+
+def test_the_bids_sidecar_names_the_rate_of_stamps_rounded_to_ms():
+    from lowerlimb.export.bids import _motion_sidecar
+
+    t = np.round(np.arange(1000) / 148.0, 3)
+    assert _motion_sidecar(t, [], "walk", "x", None)["SamplingFrequency"] == pytest.approx(148.0, rel=1e-3)
