@@ -40,6 +40,7 @@ from numpy.typing import ArrayLike
 from .. import __version__
 from ..conventions import JOINT_DOF_NAMES, SENSORS, FloatArray
 from ..errors import InputError, ShapeError
+from ..io.time_axis import rate_from_stamps
 from .names import split_side
 
 #: REQUIRED columns of ``_channels.tsv`` then the recommended ``reference_frame``.
@@ -232,7 +233,7 @@ def _motion_sidecar(
         counts[c.type] = counts.get(c.type, 0) + 1
     points = {c.tracked_point for c in channels if c.tracked_point != "n/a"}
     sidecar: dict[str, object] = {
-        "SamplingFrequency": round(1.0 / float(np.median(np.diff(t))), 6),
+        "SamplingFrequency": round(rate_from_stamps(t), 6),
         "SamplingFrequencyEffective": (t.size - 1) / float(t[-1] - t[0]),
         "TaskName": task,
         "TrackingSystemName": f"lowerlimb ({tracksys})",
