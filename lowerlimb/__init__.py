@@ -14,7 +14,7 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
-__version__ = "0.5.15"
+__version__ = "0.5.16"
 
 _EXPORTS = {
     "calibrate_leg": "calibration",

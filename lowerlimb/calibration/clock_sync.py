@@ -36,7 +36,7 @@ of the two halves were 10-34 ms apart); otherwise the sensors are taken as synch
 from __future__ import annotations
 
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -63,11 +63,14 @@ class _Signals(Protocol):
 
 
 __all__ = [
+    "ClockHintWarning",
     "ClockOffsetWarning",
     "ClockOffsets",
     "JointLag",
+    "LateSensor",
     "estimate_clock_offsets",
     "joint_residual",
+    "late_sensor",
     "retime",
     "synchronise",
     "worse_fits",
@@ -112,12 +115,16 @@ class ClockOffsets:
         passes: number of estimation passes run.
         rejected: ``{joint: residual after / before}`` of a re-timing step that was undone
             because it made those joints fit worse (:func:`synchronise`); empty when none was.
+        late_sensor: ``{sensor: s}`` a sensor whose uncounted joint lags both said it runs late
+            (negative: early) by about this (:func:`late_sensor`), tried as a re-timing step of
+            its own (kept where the joints fit no worse, like any step); empty when none did.
     """
 
     joints: dict[str, JointLag] = field(default_factory=dict)
     shift_s: dict[str, float] = field(default_factory=dict)
     passes: int = 0
     rejected: dict[str, float] = field(default_factory=dict)
+    late_sensor: dict[str, float] = field(default_factory=dict)
 
     @property
     def applied(self) -> bool:
@@ -139,6 +146,7 @@ class ClockOffsets:
             },
             "passes": int(self.passes),
             "rejected": {k: float(v) for k, v in self.rejected.items()},
+            "late_sensor": {k: float(v) for k, v in self.late_sensor.items()},
         }
 
 
@@ -291,6 +299,63 @@ class ClockOffsetWarning(UserWarning):
     """The sensors' clocks looked offset and the signals were re-timed before calibrating."""
 
 
+class ClockHintWarning(UserWarning):
+    """One sensor looks late (or early) against both its neighbours, too weakly to re-time it."""
+
+
+@dataclass(frozen=True)
+class LateSensor:
+    """A thigh or shank sensor whose two joints' lags both say it runs late (or early).
+
+    Attributes:
+        sensor: ``"thigh"`` or ``"shank"``.
+        lag_s: how late it looks against its neighbours (the mean of the two joints'), s
+            (negative: early).
+        joints: ``{joint: its lag as found}`` of the joint above and below it.
+    """
+
+    sensor: str
+    lag_s: float
+    joints: dict[str, JointLag]
+
+    def message(self) -> str:
+        """One line for the user."""
+        when = "late" if self.lag_s > 0 else "early"
+        found = ", ".join(
+            f"{j} {1000 * v.lag_s:+.0f} ms explaining {100 * v.explained:.0f} %"
+            for j, v in self.joints.items()
+        )
+        return (
+            f"the {self.sensor} sensor's clock looks {1000 * abs(self.lag_s):.0f} ms {when} against both "
+            f"its neighbours ({found} of the joint's mismatch), but re-timing it made the joints fit "
+            f"worse, so it was not; its segment lengths may come out short; synchronise the sensors, "
+            f"or check that sensor's time column"
+        )
+
+
+def late_sensor(lags: Mapping[str, JointLag], options: CalibrationOptions) -> LateSensor | None:
+    """The thigh or shank sensor whose two uncounted joint lags agree that it is late or early, if any.
+
+    A sensor's clock offset moves both its joints: the one above by its lag, the one below by
+    minus it. Soft tissue and impacts move one joint's lag at a time (synchronised simulated
+    walks: hip lags up to +34 ms beside knee lags within ±6 ms).
+    """
+    for sensor, above, below in (("thigh", "hip", "knee"), ("shank", "knee", "ankle")):
+        a, b = lags.get(above), lags.get(below)
+        if a is None or b is None or a.counted or b.counted:
+            continue
+        la, lb = a.lag_s, -b.lag_s  # both: the sensor's lag behind its neighbour
+        small, large = sorted((abs(la), abs(lb)))
+        if (
+            la * lb > 0
+            and small >= options.clock_hint_min_lag_s
+            and large <= options.clock_hint_max_ratio * small
+            and min(a.explained, b.explained) >= options.clock_hint_min_explained
+        ):
+            return LateSensor(sensor, 0.5 * (la + lb), {above: a, below: b})
+    return None
+
+
 def joint_residual(calibration: LegCalibration, joint: str) -> float:
     """The joint's fit residual that its sensors' relative timing moves.
 
@@ -357,11 +422,16 @@ def synchronise(
     current, cal = trial, calibration
     lags: dict[str, JointLag] = {}
     rejected: dict[str, float] = {}
+    hints: dict[str, float] = {}
     passes = 0
     for _ in range(options.clock_passes):
         passes += 1
         lags = estimate_lags(current, cal, options)
         step = chain_shifts(lags)
+        hint = None if any(step.values()) else late_sensor(lags, options)
+        if hint is not None:  # one sensor late against both neighbours: tried as a step of its own
+            step = dict.fromkeys(step, 0.0) | {hint.sensor: hint.lag_s}
+            hints[hint.sensor] = hints.get(hint.sensor, 0.0) + hint.lag_s
         if not any(step.values()):
             break
         tried = {s: total[s] + step[s] for s in total}
@@ -371,7 +441,9 @@ def synchronise(
         if rejected:
             break
         total, current, cal = tried, retimed, cal_tried
-    offsets = ClockOffsets(joints=lags, shift_s=total, passes=passes, rejected=rejected)
+    offsets = ClockOffsets(joints=lags, shift_s=total, passes=passes, rejected=rejected, late_sensor=hints)
+    if hint is not None and rejected:  # its re-timing made the joints fit worse: said, not done
+        warnings.warn(hint.message(), ClockHintWarning, stacklevel=2)
     if offsets.applied:
         moved = ", ".join(f"{s} {1000 * v:+.0f} ms" for s, v in total.items() if v != 0.0)
         warnings.warn(

@@ -343,6 +343,17 @@ class CalibrationOptions:
             worse by more than this factor (the geometric mean of their residual ratios: the
             knee's hinge axis, the hip's and ankle's centre;
             :func:`~lowerlimb.calibration.clock_sync.worse_fits`).
+        clock_hint_min_lag_s: a thigh or shank sensor whose two joints' lags, neither counted,
+            both say it runs late (or early) against its neighbours by at least this each, s ...
+        clock_hint_min_explained: ... each explaining at least this share of its joint's
+            mismatch ...
+        clock_hint_max_ratio: ... and agreeing within this factor, is re-timed by itself, by the
+            mean of the two (where the joints then fit no worse; else a
+            :class:`~lowerlimb.calibration.clock_sync.ClockHintWarning` names it). The real walk
+            with its right shank 30 ms late: knee +22 ms, ankle −13 ms, explaining 0.21 and 0.28,
+            re-timed +18 ms (thigh and shank −44 / −30 mm → −5 / +2 mm; 50 ms late: a thigh
+            that fell back on de Leva → −3 mm). As recorded its lags stay within ±3 ms;
+            synchronised simulated walks with the real-walk artefacts: no thigh or shank named.
         rest_gravity_warn_mps2: warn (:class:`~lowerlimb.calibration.rest_gravity.AccelerometerOffsetWarning`)
             when an accelerometer's norm at the standing start is further than this from
             9.81 m/s², m/s² (``None``: no check; :mod:`~lowerlimb.calibration.rest_gravity`). The
@@ -477,6 +488,9 @@ class CalibrationOptions:
     clock_lowpass_hz: float = 10.0
     clock_passes: int = 3
     clock_max_residual_growth: float = 1.1
+    clock_hint_min_lag_s: float = 0.01
+    clock_hint_min_explained: float = 0.1
+    clock_hint_max_ratio: float = 2.0
     rest_gravity_warn_mps2: float | None = 0.2
     rest_gravity_correction: bool = False
     thigh_twist: bool = False
