@@ -79,7 +79,7 @@ def test_a_reused_calibration_says_so(calibrated):
     assert "rms residual" not in err  # the earlier trial's residuals are not this trial's
     # nor its clocks: the search ran on the first trial only
     first_cal = json.loads(first.read_text())
-    assert set(first_cal["clock_offsets"]) == {"shift_s", "joints", "passes", "rejected"}
+    assert set(first_cal["clock_offsets"]) == {"shift_s", "joints", "passes", "rejected", "late_sensor"}
     assert cal["clock_offsets"] == {}
 
 
