@@ -15,9 +15,11 @@ from simcache import cached_simulation, data_dir, real_walk_leg_mapping
 from lowerlimb.calibration import LegCalibration, calibrate_leg
 from lowerlimb.calibration.clock_sync import (
     ClockOffsetWarning,
+    JointLag,
     chain_shifts,
     estimate_clock_offsets,
     joint_lag,
+    late_sensor,
     retime,
     worse_fits,
 )
@@ -283,6 +285,51 @@ def test_cli_records_the_clock_search_and_can_skip_it(tmp_path) -> None:
         if flag:
             assert rec == {}
         else:
-            assert set(rec) == {"shift_s", "joints", "passes", "rejected"} and not any(
+            assert set(rec) == {"shift_s", "joints", "passes", "rejected", "late_sensor"} and not any(
                 rec["shift_s"].values()
             )
+
+
+def test_a_sensor_late_against_both_neighbours_is_named_from_uncounted_lags() -> None:
+    def lags(hip: float, knee: float, ankle: float, explained: float = 0.2) -> dict[str, JointLag]:
+        found = (("hip", hip), ("knee", knee), ("ankle", ankle))
+        return {j: JointLag(v, explained, 0.02, False) for j, v in found}
+
+    o = CalibrationOptions()
+    found = late_sensor(lags(0.002, 0.022, -0.013), o)  # the real walk, right shank 30 ms late
+    assert found is not None and found.sensor == "shank" and found.lag_s == pytest.approx(0.0175)
+    assert "shank sensor's clock looks 17 ms late" in found.message()
+    early = late_sensor(lags(-0.02, 0.015, 0.0), o)
+    assert early is not None and early.sensor == "thigh" and early.lag_s < 0
+    assert late_sensor(lags(0.034, -0.004, 0.001), o) is None  # soft tissue: one joint alone
+    assert late_sensor(lags(0.0, 0.022, 0.013), o) is None  # the shank leads one neighbour, trails the other
+    assert late_sensor(lags(0.0, 0.030, -0.010), o) is None  # lags 3x apart
+    assert late_sensor(lags(0.0, 0.022, -0.013, explained=0.05), o) is None  # explaining too little
+    counted = lags(0.0, 0.022, -0.013)
+    counted["knee"] = replace(counted["knee"], counted=True)
+    assert late_sensor(counted, o) is None  # a counted lag re-times by itself
+
+
+@pytest.mark.data
+@pytest.mark.skipif(REAL is None or not (REAL / "gait").is_dir(), reason="real-walk data absent")
+def test_a_real_shank_30_ms_late_is_retimed_and_keeps_its_lengths() -> None:
+    """Neither joint's lag counts alone (explaining 21 and 28 %); together they name the shank."""
+    from lowerlimb.calibration.fit_band import segment_lengths_m
+    from lowerlimb.io.xsens import read_xsens
+
+    assert REAL is not None
+    trial = read_xsens(REAL / "gait" / "rawimu", real_walk_leg_mapping("right"), side="right")
+    late = retime(trial, {"shank": -0.03})
+    runs = {}
+    for name, t, sync in (("recorded", trial, True), ("late", late, False), ("late, searched", late, True)):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            r = process_trial(t, calibration_options=CalibrationOptions(clock_sync=sync))
+        runs[name] = r.calibration, [str(w.message) for w in caught]
+    base = np.array(segment_lengths_m(runs["recorded"][0]))
+    assert np.max(np.abs(np.array(segment_lengths_m(runs["late"][0])) - base)) > 0.025  # what it cost
+    cal, said = runs["late, searched"]
+    assert cal.clock_offsets["late_sensor"]["shank"] == pytest.approx(0.018, abs=0.004)
+    assert cal.clock_offsets["shift_s"]["shank"] > 0.01
+    assert np.max(np.abs(np.array(segment_lengths_m(cal)) - base)) < 0.01
+    assert any("shank" in m and "re-timed" in m for m in said)
