@@ -38,6 +38,10 @@ RANGE_COLUMNS: tuple[str, ...] = tuple(f"{n}_range_deg" for n in ANGLE_COLUMNS[1
 def group_summary(rows: Sequence[Mapping[str, Any]], by: str, columns: Sequence[str]) -> list[dict[str, Any]]:
     """Mean and SD (ddof 1; NaN for one trial) of ``columns`` per value of ``by``, over processed trials.
 
+    A two-leg trial's row has each leg's value under ``left_<col>`` / ``right_<col>``; where
+    ``<col>`` itself is absent, the trial counts with the mean of its legs (as its segment
+    lengths do in ``batch.csv``), so that its angle ranges are not left out of its task.
+
     Returns:
         One row per group, sorted: ``{by, "trials", "<col>_mean", "<col>_sd", …}``.
     """
@@ -50,7 +54,7 @@ def group_summary(rows: Sequence[Mapping[str, Any]], by: str, columns: Sequence[
         members = groups[key]
         summary: dict[str, Any] = {by: key, "trials": len(members)}
         for c in columns:
-            values = np.array([_number(r.get(c)) for r in members], dtype=float)
+            values = np.array([_trial_value(r, c) for r in members], dtype=float)
             values = values[np.isfinite(values)]
             summary[f"{c}_mean"] = round(float(values.mean()), 3) if values.size else math.nan
             summary[f"{c}_sd"] = round(float(values.std(ddof=1)), 3) if values.size > 1 else math.nan
@@ -107,6 +111,16 @@ def write_table(stem: Path, rows: Sequence[Mapping[str, Any]], columns: Sequence
 
 def _with_columns(rows: list[dict[str, Any]]) -> tuple[list[dict[str, Any]], list[str]]:
     return rows, (list(rows[0]) if rows else [])
+
+
+def _trial_value(row: Mapping[str, Any], column: str) -> float:
+    """``row[column]``, else the mean of the legs' ``left_``/``right_`` values (two-leg rows), else NaN."""
+    value = _number(row.get(column))
+    if math.isfinite(value):
+        return value
+    legs = [_number(row.get(f"{side}_{column}")) for side in ("left", "right")]
+    legs = [v for v in legs if math.isfinite(v)]
+    return float(np.mean(legs)) if legs else math.nan
 
 
 def _number(v: Any) -> float:
