@@ -173,6 +173,11 @@ def load_calibrated(directory: str | Path) -> tuple[LegModel, S2JModel]:
         InputError: when the directory lacks ``calibrated.urdf`` or ``s2j.json``.
     """
     d = Path(directory)
+    if (d / "calibrated.urdf").is_file() and not (d / S2J_SIDECAR).is_file():
+        # the URDF names its S2J sidecar, but `calibrate --outputs` may have left it out
+        raise InputError(
+            f"{d} has calibrated.urdf but no {S2J_SIDECAR}; re-run lowerlimb calibrate with s2j in --outputs"
+        )
     for name in ("calibrated.urdf", S2J_SIDECAR):
         if not (d / name).is_file():
             raise InputError(f"{d} has no {name}; give an output directory of 'lowerlimb calibrate'")

@@ -450,7 +450,10 @@ def test_cli_import_xsens_and_csv(tmp_path, capsys):
     out = tmp_path / "trial.csv"
     argv = ["import", "xsens", str(folder), "--map", ",".join(f"{k}={v}" for k, v in IDS.items())]
     assert main([*argv, "--side", "right", "--out", str(out), "--mag-field-ut", "40"]) == 0
-    assert "400 samples at 100 Hz, right leg, with magnetometer, 0 samples filled" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "400 samples at 100 Hz, right leg, with magnetometer, 0 samples filled" in printed
+    # the written columns carry no side: the user is told to give it to calibrate
+    assert "calibrate it with --side right" in printed
     trial = ImuTrial.from_csv(out, side="right")
     np.testing.assert_allclose(trial.mag["foot"][0], 40.0 * (MAG_NORMALISED + 0.003), atol=1e-4)
     # an existing output is kept without --force, replaced with it

@@ -117,4 +117,8 @@ def run(args: argparse.Namespace) -> int:
         f"wrote {out} ({rec.n_samples} samples at {rate:.4g} Hz, {legs}, "
         f"{'with' if rec.mag is not None else 'no'} magnetometer, {rec.n_filled} samples filled)"
     )
+    if not rec.two_leg and rec.side != "left":
+        # the one-leg trial CSV's columns (pelvis, thigh, shank, foot) carry no side, and
+        # calibrate takes such a trial for the left leg unless told
+        print(f"  its columns name no side: calibrate it with --side {rec.side} (else: the left leg)")
     return 0
