@@ -418,6 +418,14 @@ class ImuTrial(TimeAxis):
         header = _read_header(path)
         prefix = leg_side(header, side, path)
         if prefix is None:
+            from .bilateral_trial import trial_layout  # it imports this module
+
+            if trial_layout(header) == "two_legs":
+                raise InputError(
+                    f"{path} is a two-leg trial (left_* and right_* sensors), not one leg; read it with "
+                    "lowerlimb.io.bilateral_trial.BilateralTrial.from_csv and process it with "
+                    "lowerlimb.bilateral.process_bilateral_trial (or run lowerlimb calibrate on it)"
+                )
             return cls._from_csv(path, header, side or "left", use_mag)
         unprefixed = [h.removeprefix(f"{prefix}_") for h in header]
         from .bilateral_trial import with_file_names  # it imports this module
