@@ -102,3 +102,16 @@ def test_thigh_inertia_in_kg_m2_for_the_reference_subject():
     I_sag = m (0.329 L)^2 = 0.2049, I_long = m (0.149 L)^2 = 0.04203 kg m^2."""
     thigh = segment_inertias(1.741, 75.0)["thigh"]
     np.testing.assert_allclose(np.diag(thigh.inertia_kgm2), [0.2049, 0.04203, 0.2049], rtol=1e-3)
+
+
+def test_every_height_and_mass_the_command_line_accepts_scales_the_model():
+    # the CLI and the batch manifest check --height/--mass against InputBounds; a value they let
+    # through (2.55 m, 350 kg) used to end as an internal error (exit 1) in the de Leva scaling
+    from lowerlimb.io.bounds import INPUT_BOUNDS
+
+    for height in INPUT_BOUNDS.height_m:
+        for mass in INPUT_BOUNDS.mass_kg:
+            s = segment_inertias(height, mass)
+            assert all(np.isfinite(seg.length_m) and seg.length_m > 0 for seg in s.values())
+    with pytest.raises(ValueError, match="implausible"):
+        segment_inertias(INPUT_BOUNDS.height_m[1] + 0.01, 75.0)

@@ -63,8 +63,8 @@ def segment_inertias(height_m: float = 1.75, mass_kg: float = 75.0) -> dict[str,
     """Scale de Leva 1996 parameters to a subject.
 
     Args:
-        height_m: stature, m (0.5–2.5).
-        mass_kg: body mass, kg (5–300).
+        height_m: stature, m (``InputBounds.height_m``: 0.5–2.6).
+        mass_kg: body mass, kg (5 to ``InputBounds.mass_kg``'s 400).
 
     Returns:
         ``{"pelvis"|"thigh"|"shank"|"foot": SegmentInertia}``. Frames: thigh and
@@ -75,10 +75,16 @@ def segment_inertias(height_m: float = 1.75, mass_kg: float = 75.0) -> dict[str,
     Raises:
         ValueError: when height or mass is outside the plausible range.
     """
-    if not 0.5 <= height_m <= 2.5:
-        raise ValueError(f"height {height_m} m is implausible; give the stature in metres")
-    if not 5.0 <= mass_kg <= 300.0:
-        raise ValueError(f"mass {mass_kg} kg is implausible; give the body mass in kg")
+    # the ranges the command line and the batch manifest accept (io.bounds.InputBounds): a
+    # height or mass they let through must not fail here as an internal error
+    from ..io.bounds import INPUT_BOUNDS
+
+    h_lo, h_hi = INPUT_BOUNDS.height_m
+    m_lo, m_hi = min(5.0, INPUT_BOUNDS.mass_kg[0]), INPUT_BOUNDS.mass_kg[1]
+    if not h_lo <= height_m <= h_hi:
+        raise ValueError(f"height {height_m} m is implausible; give the stature in m ({h_lo:g}–{h_hi:g})")
+    if not m_lo <= mass_kg <= m_hi:
+        raise ValueError(f"mass {mass_kg} kg is implausible; give the body mass in kg ({m_lo:g}–{m_hi:g})")
     scale = height_m / _REF_STATURE_M
     out: dict[str, SegmentInertia] = {}
     for name, (length_mm, frac, com_frac, radii) in _DE_LEVA.items():
