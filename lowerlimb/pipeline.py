@@ -245,7 +245,11 @@ def _calibrate_synchronised(
         # σ 10 ms clocks: knee pairs left 11–28 ms off); the leg's band is chosen again after
         calib, kept, trial, offsets = _search_clocks(trial, calib, kept, calibrate, options)
         calib = replace(calib, clock_offsets=offsets.to_dict())
+    clock_record = calib.clock_offsets
     trial, calib, kept = _untwisted(trial, calib, kept, calibrate, still, previous, options)
+    # the untwisted trial's fit is a new calibration: it keeps the clock search's record (the
+    # trial it fits is the re-timed one), which calibration.json's clock_offsets reports
+    calib = replace(calib, clock_offsets=clock_record)
     for w in kept:
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     return trial, calib

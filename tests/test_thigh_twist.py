@@ -99,6 +99,8 @@ def test_the_twist_is_found_and_undone_on_a_simulated_walk(twisted_walk, side):
     assert tw is not None
     # found: ~0.33 internal per rad of hip flexion (0.3 simulated), the knee axes made to agree
     assert 0.25 < tw.internal_per_flexion(side) < 0.42
+    # the untwisted trial's fit keeps the clock search's record (it was dropped: clock_offsets {})
+    assert set(on.calibration.clock_offsets) >= {"shift_s", "joints", "passes"}
     assert abs(tw.mismatch_before_deg) > 12 and abs(tw.mismatch_after_deg) < 1.5
     assert 0.03 < np.linalg.norm(tw.offset_from_axis_m) < 0.15  # the sensor sits on the thigh's side
     # undone: lengths and knee rotation as on rigid sensors (measured: 30-60 mm and 8 deg before)
@@ -183,6 +185,7 @@ def test_the_real_thighs_turn_internally_with_the_hip(side):
     assert tw is not None
     # measured: 0.33 / 0.59 internal, from -17.4 / +18.4 deg of mismatch to within 0.5 deg
     assert 0.2 < tw.internal_per_flexion(side) < 0.8
+    assert "shift_s" in res.calibration.clock_offsets  # the clock search's record survives the untwist
     assert abs(tw.mismatch_before_deg) > 12 and abs(tw.mismatch_after_deg) < 1.5
 
 
