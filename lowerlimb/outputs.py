@@ -551,8 +551,12 @@ def dependency_versions() -> dict[str, str | None]:
     return out
 
 
-def build_provenance(options: CalibrateOptions) -> dict[str, Any]:
-    """calibration.json's ``provenance`` (docs/formats.md, Provenance): versions, input, options, reuse."""
+def build_provenance(options: CalibrateOptions, *, two_legs: bool = False) -> dict[str, Any]:
+    """calibration.json's ``provenance`` (docs/formats.md, Provenance): versions, input, options, reuse.
+
+    ``two_legs``: a seven-sensor trial, whose ``options.side`` is ``"both"`` (the batch
+    manifest's word for it), not the one-leg default ``CalibrateOptions.side``.
+    """
     from . import __version__
 
     return {
@@ -561,7 +565,7 @@ def build_provenance(options: CalibrateOptions) -> dict[str, Any]:
         "input_file": str(options.trial),
         "input_sha256": file_sha256(Path(options.trial)),
         "options": {
-            "side": options.side,
+            "side": "both" if two_legs else options.side,
             "filter": options.filter_name,
             "method": options.method,
             "height": options.height_m,

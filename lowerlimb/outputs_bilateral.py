@@ -332,7 +332,11 @@ def run_calibrate_bilateral(options: CalibrateOptions) -> BilateralResult:
         )
     _print_warnings(read_warnings + caught)
     write_bilateral_result(
-        result, out, files=files, exports=tuple(options.exports), provenance=build_provenance(options)
+        result,
+        out,
+        files=files,
+        exports=tuple(options.exports),
+        provenance=build_provenance(options, two_legs=True),
     )
     print(f"joint calibration of both legs took {result.runtime_s:.3f} s; wrote {out}/", file=sys.stderr)
     for side in SIDES:

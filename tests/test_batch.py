@@ -244,6 +244,11 @@ def test_a_study_mixing_one_leg_and_two_leg_trials(tmp_path):
     assert {"events.csv", "stationary.csv", "gait.json", "calibrated.urdf", "angles.units.json"} <= folder
     assert "s2j.json" not in folder and "report.html" not in folder
     assert by_trial["leg.csv"]["side"] == "left" and "s2j.json" in {p.name for p in (out / "leg").iterdir()}
+    # each calibration.json carries its provenance, as calibrate writes it (it had none in a study)
+    for name, side in (("leg", "left"), (two["folder"], "both")):
+        prov = json.loads((out / name / "calibration.json").read_text())["provenance"]
+        assert prov["options"]["side"] == side and len(prov["input_sha256"]) == 64
+        assert prov["input_file"].endswith(f"{'leg' if side == 'left' else 'both'}.csv")
     # up to date on a re-run, although a two-leg folder has no s2j.json
     assert run_study(root / "manifest.csv", out, params).processed == 0
     # calibration reuse does not apply to two legs: that trial fails with one clear reason

@@ -274,6 +274,7 @@ def test_outputs_have_the_two_leg_columns_and_keys(two_legs):
     prov = cal["provenance"]  # as a one-leg calibration.json: versions, input, options
     assert prov["input_file"] == str(csv) and len(prov["input_sha256"]) == 64
     assert prov["options"]["centre_form"] == "norm" and prov["options"]["clock_sync"] is True
+    assert prov["options"]["side"] == "both"  # not the one-leg default, "left"
     for side in SIDES:
         joints = cal["legs"][side]["joints"]
         assert joints["hip"]["parent_sensor"] == "pelvis" and joints["hip"]["child_sensor"] == "thigh"

@@ -18,6 +18,7 @@ import time
 import warnings
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -31,7 +32,7 @@ from lowerlimb.io.bilateral_trial import BilateralTrial, read_header, trial_layo
 from lowerlimb.io.bounds import INPUT_BOUNDS
 from lowerlimb.io.trial import ImuTrial
 from lowerlimb.model.fallback import segment_lengths
-from lowerlimb.outputs import read_calibration, write_outputs
+from lowerlimb.outputs import CalibrateOptions, build_provenance, read_calibration, write_outputs
 from lowerlimb.outputs_bilateral import write_bilateral_outputs
 from lowerlimb.pipeline import TrialResult, process_trial
 from lowerlimb.side_by_side import set_enabled
@@ -131,7 +132,8 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
             side_check=p.side_check,
             parallel_legs=False,  # the study's trials already fill the cores
         )
-        return bilateral_key_results(both), lambda d: _write_two_legs(both, d, p.outputs)
+        provenance = _provenance(job, None, two_legs=True)
+        return bilateral_key_results(both), lambda d: _write_two_legs(both, d, p.outputs, provenance)
     if trial.side == "both":
         raise InputError(
             f"side 'both', but {trial.label} has one leg's sensors; write left or right in the manifest's "
@@ -158,11 +160,40 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
         smooth_orientation=p.smooth_orientation,
         side_check=p.side_check,
     )
-    return key_results(result) | leg_gait_results(result), lambda d: write_outputs(result, d, files=p.outputs)
+    provenance = _provenance(job, imu.side, two_legs=False)
+    return key_results(result) | leg_gait_results(result), lambda d: write_outputs(
+        result, d, files=p.outputs, provenance=provenance
+    )
 
 
-def _write_two_legs(result: BilateralResult, directory: Path, files: frozenset[str]) -> None:
-    write_bilateral_outputs(result, directory, files=files)
+def _provenance(job: TrialJob, side: str | None, *, two_legs: bool) -> dict[str, Any]:
+    """calibration.json's ``provenance`` for a study's trial, as ``calibrate`` writes it (docs/formats.md)."""
+    trial, p = job.trial, job.params
+    options = CalibrateOptions(
+        trial=Path(trial.path),
+        out=Path(trial.name),
+        side=side or "left",
+        method=p.method,
+        filter_name=p.filter_name,
+        height_m=trial.height_m,
+        mass_kg=trial.mass_kg,
+        use_mag=p.use_mag,
+        calibration=None if trial.calibration is None else Path(trial.calibration),
+        side_check=p.side_check,
+        order_check=p.order_check,
+        sign_check=p.sign_check,
+        centre_form=p.centre_form,
+        hip_in_pelvis_form=p.hip_in_pelvis_form,
+        thigh_twist=p.thigh_twist,
+        smooth_orientation=p.smooth_orientation,
+    )
+    return build_provenance(options, two_legs=two_legs)
+
+
+def _write_two_legs(
+    result: BilateralResult, directory: Path, files: frozenset[str], provenance: dict[str, Any]
+) -> None:
+    write_bilateral_outputs(result, directory, files=files, provenance=provenance)
 
 
 def bilateral_key_results(result: BilateralResult) -> dict[str, float]:
