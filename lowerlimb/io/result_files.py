@@ -22,9 +22,14 @@ OUTPUT_FILES: dict[str, str] = {
 def check_outputs(names: Collection[str]) -> frozenset[str]:
     """The set of output short names, checked against :data:`OUTPUT_FILES`.
 
+    ``names`` may also be one string, a name or a comma-separated list as ``--outputs`` takes
+    it (``"angles"``, ``"calibration,angles"``), not split into its letters.
+
     Raises:
         InputError: an unknown name, or none at all; the message lists the accepted ones.
     """
+    if isinstance(names, str):
+        names = [n.strip() for n in names.split(",") if n.strip()]
     unknown = sorted(set(names) - set(OUTPUT_FILES))
     if unknown or not names:
         what = f"unknown output {', '.join(map(repr, unknown))}" if unknown else "no output chosen"
