@@ -199,7 +199,7 @@ def process_study(
             f"{', '.join(BatchParams.__dataclass_fields__)}"
         )
     if "outputs" in options:
-        options["outputs"] = frozenset(options["outputs"])
+        options["outputs"] = check_outputs(options["outputs"])  # a set, or one string "angles,calibration"
     result = run_study(manifest, out, replace(p, **options), scheduler=scheduler, quiet=quiet)
     from .summary import batch_columns
 
