@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import warnings
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -191,11 +192,15 @@ def test_the_real_thighs_turn_internally_with_the_hip(side):
 
 def test_a_study_can_undo_the_twist_and_its_hash_says_so():
     from lowerlimb.batch import BatchParams
-    from lowerlimb.batch.worker import _options
+    from lowerlimb.batch.manifest import StudyTrial
+    from lowerlimb.batch.record import TrialJob
+    from lowerlimb.batch.worker import _calibrate_options
 
     assert "thigh_twist" not in BatchParams().processing_key()  # studies run before stay up to date
     assert BatchParams(thigh_twist=True).processing_key()["thigh_twist"] is True
-    assert _options(BatchParams(thigh_twist=True)).thigh_twist
+    trial = StudyTrial("t", Path("t.csv"), "t.csv", "left", "", "", 1.75, 75.0, None)
+    job = TrialJob(trial, BatchParams(thigh_twist=True), Path("out"), "")
+    assert _calibrate_options(job).calibration_options().thigh_twist
 
 
 def test_thigh_twist_with_a_calibration_that_records_none_is_refused(tmp_path, capsys):

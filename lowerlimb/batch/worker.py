@@ -23,7 +23,6 @@ from typing import Any
 import numpy as np
 
 from lowerlimb.bilateral import BilateralResult, BilateralSideError, process_bilateral_trial
-from lowerlimb.calibration.options import CalibrationOptions
 from lowerlimb.calibration.plausibility import WrongSideError
 from lowerlimb.conventions import ANGLE_COLUMNS
 from lowerlimb.errors import InputError
@@ -37,7 +36,6 @@ from lowerlimb.outputs_bilateral import write_bilateral_outputs
 from lowerlimb.pipeline import TrialResult, process_trial
 from lowerlimb.side_by_side import set_enabled
 
-from .params import BatchParams
 from .record import MARKER, TrialJob, TrialOutcome
 
 __all__ = ["bilateral_key_results", "key_results", "leg_gait_results", "run_trial"]
@@ -127,7 +125,7 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
             height_m=trial.height_m,
             mass_kg=trial.mass_kg,
             use_mag=p.use_mag,
-            calibration_options=_options(p),
+            calibration_options=_calibrate_options(job).calibration_options(),
             smooth_orientation=p.smooth_orientation,
             side_check=p.side_check,
             parallel_legs=False,  # the study's trials already fill the cores
@@ -156,7 +154,7 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
         mass_kg=trial.mass_kg,
         use_mag=p.use_mag,
         calibration=previous,
-        calibration_options=_options(p),
+        calibration_options=_calibrate_options(job).calibration_options(),
         smooth_orientation=p.smooth_orientation,
         side_check=p.side_check,
     )
@@ -168,8 +166,13 @@ def _process(job: TrialJob) -> tuple[dict[str, float], Callable[[Path], None]]:
 
 def _provenance(job: TrialJob, side: str | None, *, two_legs: bool) -> dict[str, Any]:
     """calibration.json's ``provenance`` for a study's trial, as ``calibrate`` writes it (docs/formats.md)."""
+    return build_provenance(_calibrate_options(job, side), two_legs=two_legs)
+
+
+def _calibrate_options(job: TrialJob, side: str | None = None) -> CalibrateOptions:
+    """What ``lowerlimb calibrate`` would be asked for this trial with the study's settings."""
     trial, p = job.trial, job.params
-    options = CalibrateOptions(
+    return CalibrateOptions(
         trial=Path(trial.path),
         out=Path(trial.name),
         side=side or "left",
@@ -187,7 +190,6 @@ def _provenance(job: TrialJob, side: str | None, *, two_legs: bool) -> dict[str,
         thigh_twist=p.thigh_twist,
         smooth_orientation=p.smooth_orientation,
     )
-    return build_provenance(options, two_legs=two_legs)
 
 
 def _write_two_legs(
@@ -328,14 +330,3 @@ def _warning_line(caught: list[warnings.WarningMessage]) -> str:
 
 def _one_line(e: BaseException) -> str:
     return " ".join((str(e) or type(e).__name__).split())
-
-
-def _options(p: BatchParams) -> CalibrationOptions:
-    """The calibration options a study's settings choose."""
-    return CalibrationOptions(
-        centre_form=p.centre_form,
-        hip_in_pelvis_form=p.hip_in_pelvis_form,
-        thigh_twist=p.thigh_twist,
-        check_sensor_order=p.order_check,
-        check_signs=p.sign_check,
-    )
