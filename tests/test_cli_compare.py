@@ -144,6 +144,14 @@ def _rows(*columns, digits=6):
     return [[f"{v:.{digits}f}" for v in row] for row in zip(*columns, strict=True)]
 
 
+def _refused_in_one_line(capsys, out, words):
+    """stderr is one error line holding every word, without a traceback, and ``out`` was not made."""
+    err = capsys.readouterr().err
+    assert err.startswith("lowerlimb: error: ") and err.count("\n") == 1 and "Traceback" not in err
+    assert all(w in err for w in words), err
+    assert not out.exists()
+
+
 def _hostile_reference(case, path, t, deg, pos):
     """Write the reference of one hostile case; returns the words its one-line error must hold."""
     knee = deg[:, 3]
@@ -185,10 +193,7 @@ def test_compare_refuses_a_hostile_reference_with_one_line(case, tmp_path, capsy
     words = _hostile_reference(case, ref, t, deg, pos)
     out = tmp_path / "agree"
     assert main(["compare", str(d), str(ref), "--out", str(out)]) == 2
-    err = capsys.readouterr().err
-    assert err.startswith("lowerlimb: error: ") and err.count("\n") == 1 and "Traceback" not in err
-    assert all(w in err for w in words), err
-    assert not out.exists()
+    _refused_in_one_line(capsys, out, words)
 
 
 @pytest.mark.parametrize(
@@ -280,10 +285,7 @@ def test_compare_names_the_real_problem_of_a_header(case, words, tmp_path, capsy
         ref = d  # a result folder given as the reference
     out = tmp_path / "agree"
     assert main(["compare", str(d), str(ref), "--out", str(out)]) == 2
-    err = capsys.readouterr().err
-    assert err.startswith("lowerlimb: error: ") and err.count("\n") == 1 and "Traceback" not in err
-    assert all(w in err for w in words), err
-    assert not out.exists()
+    _refused_in_one_line(capsys, out, words)
 
 
 def test_compare_align_time_warns_in_one_line_when_strides_make_the_offset_ambiguous(tmp_path):
@@ -346,11 +348,7 @@ def test_calibrate_refuses_a_bad_reference_before_computing(case, walk_trial_csv
         words = _hostile_reference(case, ref, t, deg, np.zeros((t.size, 6)))
     out = tmp_path / "o"
     assert main(["calibrate", str(trial), "--out", str(out), "--reference", str(ref)]) == 2
-    err = capsys.readouterr().err
-    # one line and no progress line: refused before the calibration starts
-    assert err.startswith("lowerlimb: error: ") and err.count("\n") == 1 and "Traceback" not in err
-    assert all(w in err for w in words), err
-    assert not out.exists()
+    _refused_in_one_line(capsys, out, words)  # and no progress line: refused before calibrating
 
 
 @pytest.mark.parametrize("flags", [["--no-report"], ["--outputs", "calibration,angles"]])
